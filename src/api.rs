@@ -1,0 +1,740 @@
+//! The wire model shared by every transport: request and response bodies as JSON shapes, and
+//! their conversion to and from the engine's types.
+//!
+//! Owns: boundary parsing (every fault names its field as a JSON Pointer) and the response shape.
+//! Must not: decide anything; a valid request becomes engine input, a decision becomes a body.
+
+use std::collections::{BTreeMap, HashSet};
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use crate::engine::clarify::{
+    Candidate, Decision, Directive, Interpretation, Options, Reference, Request, SinglePermissible,
+    Strategy,
+};
+use crate::engine::norms::{Norm, NormInput, NormKind};
+use crate::engine::scene::{Agent, Object, Scene, Shape};
+use crate::engine::simulate::Reason;
+use crate::engine::term::{Sym, Term, is_constant_name};
+use crate::error::Error;
+
+/// Escapes a key for use as one JSON Pointer segment (RFC 6901).
+pub fn pointer_segment(key: &str) -> String {
+    key.replace('~', "~0").replace('/', "~1")
+}
+
+/// Parses a JSON body. Text that is not JSON is a 400; JSON of the wrong shape is a 422 whose
+/// `field` points at the offending member.
+pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
+    let mut deserializer = serde_json::Deserializer::from_slice(bytes);
+    let result: Result<T, _> = serde_path_to_error::deserialize(&mut deserializer);
+    if result.is_ok() {
+        // Trailing text after the value is a syntax error, not a shape error.
+        deserializer.end().map_err(|e| Error::MalformedBody {
+            detail: e.to_string(),
+        })?;
+    }
+    result.map_err(|err| {
+        let inner = err.inner();
+        if !inner.is_data() {
+            return Error::MalformedBody {
+                detail: inner.to_string(),
+            };
+        }
+        let mut field = String::new();
+        for segment in err.path().iter() {
+            match segment {
+                serde_path_to_error::Segment::Seq { index } => field.push_str(&format!("/{index}")),
+                serde_path_to_error::Segment::Map { key } => {
+                    field.push('/');
+                    field.push_str(&pointer_segment(key));
+                }
+                serde_path_to_error::Segment::Enum { variant } => {
+                    field.push('/');
+                    field.push_str(&pointer_segment(variant));
+                }
+                serde_path_to_error::Segment::Unknown => {}
+            }
+        }
+        let message = inner.to_string();
+        // serde reports a missing or unknown member at its parent; point at the member itself.
+        for prefix in ["missing field `", "unknown field `"] {
+            if let Some(rest) = message.strip_prefix(prefix)
+                && let Some(name) = rest.split('`').next()
+            {
+                field.push('/');
+                field.push_str(&pointer_segment(name));
+            }
+        }
+        let detail = match message.rfind(" at line ") {
+            Some(cut) => message[..cut].to_owned(),
+            None => message,
+        };
+        Error::invalid(
+            if field.is_empty() {
+                "/".to_owned()
+            } else {
+                field
+            },
+            detail,
+        )
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Norms
+
+/// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
+/// silently widen a norm.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct NormBody {
+    pub kind: Option<String>,
+    pub action: Option<String>,
+    pub state: Option<String>,
+    pub when: Option<Vec<String>>,
+    pub context: Option<String>,
+    pub severity: Option<i64>,
+    pub note: Option<String>,
+}
+
+impl NormBody {
+    pub fn into_input(self) -> NormInput {
+        NormInput {
+            kind: self.kind,
+            action: self.action,
+            state: self.state,
+            when: self.when,
+            context: self.context,
+            severity: self.severity,
+            note: self.note,
+        }
+    }
+}
+
+/// A stored norm, canonical: terms without spaces or types.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+pub struct NormDto {
+    pub id: i64,
+    pub kind: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub action: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub state: Option<String>,
+    pub when: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub context: Option<String>,
+    pub severity: u8,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub note: Option<String>,
+}
+
+impl From<&Norm> for NormDto {
+    fn from(norm: &Norm) -> Self {
+        let term = Some(norm.spec.term.to_string());
+        let (action, state) = match norm.spec.kind {
+            NormKind::ForbiddenAction => (term, None),
+            NormKind::ForbiddenState => (None, term),
+        };
+        NormDto {
+            id: norm.id,
+            kind: norm.spec.kind.as_str().to_owned(),
+            action,
+            state,
+            when: norm.spec.when.iter().map(Term::to_string).collect(),
+            context: norm.spec.context.clone(),
+            severity: norm.spec.severity,
+            note: norm.spec.note.clone(),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Clarify: request
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+pub struct ClarifyBody {
+    #[serde(default)]
+    pub speaker: Option<String>,
+    pub directive: DirectiveBody,
+    pub scene: SceneBody,
+    #[serde(default)]
+    pub context: Option<String>,
+    #[serde(default)]
+    pub options: Option<OptionsBody>,
+}
+
+/// Either `action` + `arguments` or `form` + `bindings`; `text` is the human's words, echoed.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DirectiveBody {
+    #[serde(default)]
+    pub action: Option<String>,
+    #[serde(default)]
+    pub arguments: Option<Vec<ReferenceBody>>,
+    #[serde(default)]
+    pub form: Option<String>,
+    #[serde(default)]
+    pub bindings: Option<BTreeMap<String, Vec<BindingBody>>>,
+    #[serde(default)]
+    pub text: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceBody {
+    #[serde(default)]
+    pub id: Option<String>,
+    #[serde(rename = "type", default)]
+    pub kind: Option<String>,
+    #[serde(default)]
+    pub attributes: Option<BTreeMap<String, Scalar>>,
+    #[serde(default)]
+    pub properties: Option<Vec<String>>,
+}
+
+/// A candidate from an upstream resolver: an object id, or an id with a score.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(
+    untagged,
+    expecting = "an object id, or {\"id\": ID, \"score\": NUMBER}"
+)]
+pub enum BindingBody {
+    Id(String),
+    Scored { id: String, score: f64 },
+}
+
+/// An attribute value: a string, or a number or boolean taken as its JSON text.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(untagged, expecting = "a string, number or boolean")]
+pub enum Scalar {
+    Text(String),
+    Number(serde_json::Number),
+    Bool(bool),
+}
+
+impl Scalar {
+    fn text(&self) -> String {
+        match self {
+            Scalar::Text(s) => s.clone(),
+            Scalar::Number(n) => n.to_string(),
+            Scalar::Bool(b) => b.to_string(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+pub struct SceneBody {
+    pub agent: AgentBody,
+    #[serde(default)]
+    pub objects: Vec<ObjectBody>,
+    #[serde(default)]
+    pub facts: Vec<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+pub struct AgentBody {
+    #[serde(default)]
+    pub id: Option<String>,
+    /// Metres, world frame (z up).
+    pub position: [f64; 3],
+    /// Metres.
+    pub reach: f64,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+pub struct ObjectBody {
+    pub id: String,
+    #[serde(rename = "type")]
+    pub kind: String,
+    #[serde(default)]
+    pub properties: Vec<String>,
+    #[serde(default)]
+    pub attributes: BTreeMap<String, Scalar>,
+    /// Centre of the shape, metres, world frame.
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub shape: Option<ShapeBody>,
+    /// Unit quaternion `[x, y, z, w]`.
+    #[serde(default)]
+    pub rotation: Option<[f64; 4]>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeBody {
+    Ball { radius: f64 },
+    Cuboid { half_extents: [f64; 3] },
+    Cylinder { radius: f64, half_height: f64 },
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptionsBody {
+    #[serde(default)]
+    pub strategy: Option<StrategyBody>,
+    #[serde(default)]
+    pub single_permissible: Option<SinglePermissibleBody>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrategyBody {
+    Moral,
+    Reflexive,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SinglePermissibleBody {
+    Assume,
+    Confirm,
+}
+
+/// A clarify request, valid and ready for the engine.
+#[derive(Debug)]
+pub struct ClarifyInput {
+    pub request: Request,
+    pub scene: Scene,
+    /// The human's words, echoed back for logs.
+    pub text: Option<String>,
+}
+
+const MAX_NAME_LEN: usize = 128;
+
+/// A name that must read back as a constant of a term: `object3`, `cash_box`, `red`.
+fn constant(field: &str, text: &str, what: &str) -> Result<(), Error> {
+    if text.len() > MAX_NAME_LEN {
+        return Err(Error::invalid(
+            field,
+            format!("{what} is longer than {MAX_NAME_LEN} bytes"),
+        ));
+    }
+    if !is_constant_name(text) {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "{what} `{text}` must start with a lower-case letter, digit or `_` and contain only letters, digits, `_`, `-` and `.`"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn finite(field: &str, values: &[f64]) -> Result<(), Error> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::invalid(field, "must be finite numbers"))
+    }
+}
+
+fn positive(field: &str, value: f64) -> Result<(), Error> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(field, "must be a positive number of metres"))
+    }
+}
+
+fn context_of(context: Option<String>) -> Result<String, Error> {
+    let context = context.unwrap_or_else(|| "default".to_owned());
+    if context.is_empty() || context.len() > MAX_NAME_LEN {
+        return Err(Error::invalid(
+            "/context",
+            format!("must be 1 to {MAX_NAME_LEN} bytes long"),
+        ));
+    }
+    Ok(context)
+}
+
+impl SceneBody {
+    fn into_scene(self) -> Result<Scene, Error> {
+        let agent_id = self.agent.id.unwrap_or_else(|| "self".to_owned());
+        constant("/scene/agent/id", &agent_id, "the agent id")?;
+        finite("/scene/agent/position", &self.agent.position)?;
+        if !(self.agent.reach.is_finite() && self.agent.reach >= 0.0) {
+            return Err(Error::invalid(
+                "/scene/agent/reach",
+                "must be a non-negative number of metres",
+            ));
+        }
+        let mut seen = HashSet::new();
+        let mut objects = Vec::with_capacity(self.objects.len());
+        for (i, o) in self.objects.into_iter().enumerate() {
+            let at = format!("/scene/objects/{i}");
+            constant(&format!("{at}/id"), &o.id, "an object id")?;
+            if !seen.insert(o.id.clone()) {
+                return Err(Error::invalid(
+                    format!("{at}/id"),
+                    format!("duplicate object id `{}`", o.id),
+                ));
+            }
+            constant(&format!("{at}/type"), &o.kind, "a type")?;
+            for (j, p) in o.properties.iter().enumerate() {
+                constant(&format!("{at}/properties/{j}"), p, "a property")?;
+            }
+            let mut attributes = BTreeMap::new();
+            for (key, value) in &o.attributes {
+                let field = format!("{at}/attributes/{}", pointer_segment(key));
+                constant(&field, key, "an attribute name")?;
+                let value = value.text();
+                constant(&field, &value, "an attribute value")?;
+                attributes.insert(key.clone(), value);
+            }
+            finite(&format!("{at}/position"), &o.position)?;
+            let shape = match o.shape {
+                None => None,
+                Some(ShapeBody::Ball { radius }) => {
+                    positive(&format!("{at}/shape/ball/radius"), radius)?;
+                    Some(Shape::Ball { radius })
+                }
+                Some(ShapeBody::Cuboid { half_extents }) => {
+                    for (k, h) in half_extents.iter().enumerate() {
+                        positive(&format!("{at}/shape/cuboid/half_extents/{k}"), *h)?;
+                    }
+                    Some(Shape::Cuboid { half_extents })
+                }
+                Some(ShapeBody::Cylinder {
+                    radius,
+                    half_height,
+                }) => {
+                    positive(&format!("{at}/shape/cylinder/radius"), radius)?;
+                    positive(&format!("{at}/shape/cylinder/half_height"), half_height)?;
+                    Some(Shape::Cylinder {
+                        radius,
+                        half_height,
+                    })
+                }
+            };
+            let rotation = match o.rotation {
+                None => None,
+                Some(q) => {
+                    let field = format!("{at}/rotation");
+                    finite(&field, &q)?;
+                    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+                    if (norm - 1.0).abs() > 1e-3 {
+                        return Err(Error::invalid(
+                            field,
+                            format!("must be a unit quaternion [x,y,z,w]; its norm is {norm}"),
+                        ));
+                    }
+                    Some(q.map(|c| c / norm))
+                }
+            };
+            objects.push(Object {
+                id: o.id,
+                kind: o.kind,
+                properties: o.properties,
+                attributes,
+                position: o.position,
+                shape,
+                rotation,
+            });
+        }
+        let mut facts = Vec::with_capacity(self.facts.len());
+        for (k, text) in self.facts.iter().enumerate() {
+            let field = format!("/scene/facts/{k}");
+            let fact = Term::parse(text)
+                .map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
+            if !fact.is_ground() || fact.is_var() {
+                return Err(Error::invalid(
+                    field,
+                    "a scene fact must be ground (no variables)",
+                ));
+            }
+            facts.push(fact);
+        }
+        Ok(Scene::new(
+            Agent {
+                id: agent_id,
+                position: self.agent.position,
+                reach: self.agent.reach,
+            },
+            objects,
+            facts,
+        ))
+    }
+}
+
+impl ReferenceBody {
+    fn into_reference(self, at: &str, scene: &Scene) -> Result<Reference, Error> {
+        if let Some(id) = self.id {
+            if self.kind.is_some() || self.attributes.is_some() || self.properties.is_some() {
+                return Err(Error::invalid(
+                    at,
+                    "a reference gives either `id` or `type` (with attributes and properties), not both",
+                ));
+            }
+            if scene.object(&id).is_none() {
+                return Err(Error::invalid(
+                    format!("{at}/id"),
+                    format!("no object `{id}` in the scene"),
+                ));
+            }
+            return Ok(Reference::Id(id));
+        }
+        if self.kind.is_none() && self.attributes.is_none() && self.properties.is_none() {
+            return Err(Error::invalid(
+                at,
+                "a reference needs `id`, or `type` with optional attributes and properties",
+            ));
+        }
+        if let Some(kind) = &self.kind {
+            constant(&format!("{at}/type"), kind, "a type")?;
+        }
+        let attributes = self
+            .attributes
+            .unwrap_or_default()
+            .into_iter()
+            .map(|(k, v)| (k, v.text()))
+            .collect();
+        Ok(Reference::Described {
+            kind: self.kind,
+            attributes,
+            properties: self.properties.unwrap_or_default(),
+        })
+    }
+}
+
+/// Splits a logical form into its speaker (when wrapped as `want(S,...)`) and the action of
+/// `did(self,ACTION)`; a bare action is taken as the action itself.
+fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> {
+    let (speaker, inner) = match (form.name().map(|n| &**n), form.args()) {
+        (Some("want"), [speaker, inner]) => match speaker {
+            Term::Const(s) => (Some(s.clone()), inner.clone()),
+            _ => return Err("the speaker in want(S,...) must be a constant".to_owned()),
+        },
+        _ => (None, form.clone()),
+    };
+    let action = match (inner.name().map(|n| &**n), inner.args()) {
+        (Some("did"), [actor, action]) => {
+            match actor {
+                Term::Const(a) if &**a == "self" || &**a == agent => {}
+                _ => {
+                    return Err(format!(
+                        "did(A,...) must name the agent: `self` or `{agent}`"
+                    ));
+                }
+            }
+            action.clone()
+        }
+        _ => inner,
+    };
+    if action.is_var() {
+        return Err("the action must name a verb, not be a variable".to_owned());
+    }
+    Ok((speaker, action))
+}
+
+impl DirectiveBody {
+    fn into_directive(self, scene: &Scene) -> Result<(Directive, Option<Sym>), Error> {
+        match (self.action, self.form) {
+            (Some(_), Some(_)) => Err(Error::invalid(
+                "/directive",
+                "give either `action` or `form`, not both",
+            )),
+            (None, None) => Err(Error::invalid(
+                "/directive",
+                "needs `action` (with `arguments`) or `form` (with `bindings`)",
+            )),
+            (Some(verb), None) => {
+                constant("/directive/action", &verb, "the action")?;
+                if self.bindings.is_some() {
+                    return Err(Error::invalid(
+                        "/directive/bindings",
+                        "`bindings` go with `form`, not with `action`",
+                    ));
+                }
+                let arguments = self
+                    .arguments
+                    .unwrap_or_default()
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, r)| r.into_reference(&format!("/directive/arguments/{i}"), scene))
+                    .collect::<Result<_, _>>()?;
+                Ok((Directive::Action { verb, arguments }, None))
+            }
+            (None, Some(text)) => {
+                if self.arguments.is_some() {
+                    return Err(Error::invalid(
+                        "/directive/arguments",
+                        "`arguments` go with `action`, not with `form`",
+                    ));
+                }
+                let form = Term::parse(&text)
+                    .map_err(|e| Error::invalid("/directive/form", format!("not a term: {e}")))?;
+                let (speaker, action) = unwrap_form(&form, &scene.agent.id)
+                    .map_err(|m| Error::invalid("/directive/form", m))?;
+                let variables = action.variables();
+                let given = self.bindings.unwrap_or_default();
+                for name in given.keys() {
+                    if !variables.iter().any(|v| &**v == name) {
+                        return Err(Error::invalid(
+                            format!("/directive/bindings/{}", pointer_segment(name)),
+                            format!("`{name}` is not a variable of the form"),
+                        ));
+                    }
+                }
+                let mut bindings = Vec::with_capacity(variables.len());
+                for variable in variables {
+                    let at = format!("/directive/bindings/{}", pointer_segment(&variable));
+                    let Some(list) = given.get(&*variable) else {
+                        return Err(Error::invalid(
+                            at,
+                            format!("no candidates given for the variable `{variable}`"),
+                        ));
+                    };
+                    let mut candidates: Vec<Candidate> = Vec::with_capacity(list.len());
+                    for (j, binding) in list.iter().enumerate() {
+                        let (id, score, id_at) = match binding {
+                            BindingBody::Id(id) => (id, 1.0, format!("{at}/{j}")),
+                            BindingBody::Scored { id, score } => {
+                                if !(score.is_finite() && *score >= 0.0) {
+                                    return Err(Error::invalid(
+                                        format!("{at}/{j}/score"),
+                                        "must be a finite number ≥ 0",
+                                    ));
+                                }
+                                (id, *score, format!("{at}/{j}/id"))
+                            }
+                        };
+                        if scene.object(id).is_none() {
+                            return Err(Error::invalid(
+                                id_at,
+                                format!("no object `{id}` in the scene"),
+                            ));
+                        }
+                        if candidates.iter().any(|c| &c.id == id) {
+                            return Err(Error::invalid(id_at, format!("`{id}` is listed twice")));
+                        }
+                        candidates.push(Candidate {
+                            id: id.clone(),
+                            score,
+                        });
+                    }
+                    bindings.push((variable, candidates));
+                }
+                Ok((Directive::Form { action, bindings }, speaker))
+            }
+        }
+    }
+}
+
+impl TryFrom<ClarifyBody> for ClarifyInput {
+    type Error = Error;
+
+    fn try_from(body: ClarifyBody) -> Result<Self, Error> {
+        let speaker = body.speaker.unwrap_or_else(|| "human".to_owned());
+        constant("/speaker", &speaker, "the speaker")?;
+        let context = context_of(body.context)?;
+        let scene = body.scene.into_scene()?;
+        let text = body.directive.text.clone();
+        let (directive, form_speaker) = body.directive.into_directive(&scene)?;
+        let options = body.options.unwrap_or_default();
+        let options = Options {
+            strategy: match options.strategy {
+                None | Some(StrategyBody::Moral) => Strategy::Moral,
+                Some(StrategyBody::Reflexive) => Strategy::Reflexive,
+            },
+            single_permissible: match options.single_permissible {
+                None | Some(SinglePermissibleBody::Assume) => SinglePermissible::Assume,
+                Some(SinglePermissibleBody::Confirm) => SinglePermissible::Confirm,
+            },
+        };
+        Ok(ClarifyInput {
+            request: Request {
+                speaker: form_speaker.unwrap_or_else(|| Sym::from(speaker)),
+                directive,
+                context,
+                options,
+            },
+            scene,
+            text,
+        })
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Clarify: response
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+pub struct ReasonDto {
+    pub kind: String,
+    pub detail: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub norm_id: Option<i64>,
+    /// The norm's severity, 1..5, for a `forbidden_*` reason.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub severity: Option<u8>,
+}
+
+impl From<&Reason> for ReasonDto {
+    fn from(reason: &Reason) -> Self {
+        ReasonDto {
+            kind: reason.kind().to_owned(),
+            detail: reason.detail(),
+            norm_id: reason.norm_id,
+            severity: reason.severity,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+pub struct InterpretationDto {
+    pub action: String,
+    pub description: String,
+    pub permissible: bool,
+    pub feasible: bool,
+    pub reasons: Vec<ReasonDto>,
+    /// The primitive steps simulated, in order, as canonical terms.
+    pub plan: Vec<String>,
+    pub score: f64,
+}
+
+impl From<&Interpretation> for InterpretationDto {
+    fn from(i: &Interpretation) -> Self {
+        InterpretationDto {
+            action: i.action.to_string(),
+            description: i.description.clone(),
+            permissible: i.permissible(),
+            feasible: i.feasible(),
+            reasons: i.outcome.reasons.iter().map(ReasonDto::from).collect(),
+            plan: i.outcome.plan.iter().map(Term::to_string).collect(),
+            score: i.score,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+pub struct DecisionDto {
+    pub decision: String,
+    pub utterance: String,
+    pub speech_act: String,
+    pub goal: Option<String>,
+    pub interpretations: Vec<InterpretationDto>,
+    /// The version of the norm set this decision was made under.
+    pub norm_version: i64,
+    /// The human's words, as sent in `directive.text`.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub text: Option<String>,
+}
+
+impl DecisionDto {
+    pub fn new(decision: &Decision, text: Option<String>) -> Self {
+        DecisionDto {
+            decision: decision.kind.as_str().to_owned(),
+            utterance: decision.utterance.clone(),
+            speech_act: decision.speech_act.to_string(),
+            goal: decision.goal.as_ref().map(Term::to_string),
+            interpretations: decision
+                .interpretations
+                .iter()
+                .map(InterpretationDto::from)
+                .collect(),
+            norm_version: decision.norm_version,
+            text,
+        }
+    }
+}

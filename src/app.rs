@@ -1,0 +1,82 @@
+//! Assembling and running the service: configuration, the store, the router, the listener.
+//!
+//! Owns: startup order (store open and migrated before the port answers) and graceful shutdown.
+//! Must not: hold request logic.
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::sync::Arc;
+
+use tokio::net::TcpListener;
+
+use crate::core::Core;
+use crate::storage::{SqliteStore, StoreError};
+use crate::transport::rest::{AppState, router};
+
+/// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
+pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// `host:port`; port 0 picks a free one.
+    pub listen: String,
+    /// `sqlite://path` (created if missing) or `sqlite::memory:`.
+    pub database_url: String,
+    pub admin_token: Option<String>,
+    pub max_body_bytes: usize,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum StartError {
+    #[error("cannot listen on {addr}: {source}")]
+    Listen {
+        addr: String,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Store(#[from] StoreError),
+}
+
+/// A service bound to its port, ready to run.
+pub struct Application {
+    listener: TcpListener,
+    router: axum::Router,
+}
+
+impl Application {
+    /// Opens and migrates the store, then binds the port: once `build` returns, `/healthz` will
+    /// answer 200.
+    pub async fn build(config: Config) -> Result<Application, StartError> {
+        let store = SqliteStore::open(&config.database_url).await?;
+        let state = AppState {
+            core: Arc::new(Core::new(Arc::new(store))),
+            admin_token: config.admin_token.filter(|t| !t.is_empty()).map(Arc::from),
+            max_body_bytes: config.max_body_bytes,
+        };
+        let listener =
+            TcpListener::bind(&config.listen)
+                .await
+                .map_err(|source| StartError::Listen {
+                    addr: config.listen.clone(),
+                    source,
+                })?;
+        Ok(Application {
+            listener,
+            router: router(state),
+        })
+    }
+
+    pub fn local_addr(&self) -> std::io::Result<SocketAddr> {
+        self.listener.local_addr()
+    }
+
+    /// Serves until `shutdown` completes, then drains in-flight requests and returns.
+    pub async fn run_until(
+        self,
+        shutdown: impl Future<Output = ()> + Send + 'static,
+    ) -> std::io::Result<()> {
+        axum::serve(self.listener, self.router)
+            .with_graceful_shutdown(shutdown)
+            .await
+    }
+}

@@ -1,0 +1,127 @@
+//! Referring expressions: Dale & Reiter's Incremental Algorithm over the scene, and readings
+//! ("get the plastic vase") built from them.
+//!
+//! Owns: which features describe an object, their order, and how actions are spoken.
+//! Must not: depend on hash order; the same scene always yields the same words.
+
+use std::collections::HashMap;
+
+use super::action::Library;
+use super::scene::{Object, Scene, spoken};
+use super::term::Term;
+
+/// A distinguishing feature of an object.
+#[derive(Clone, Copy)]
+enum Feature<'a> {
+    Property(&'a str),
+    Attribute(&'a str, &'a str),
+}
+
+impl Feature<'_> {
+    fn holds_for(&self, other: &Object) -> bool {
+        match *self {
+            Feature::Property(p) => other.properties.iter().any(|q| q == p),
+            Feature::Attribute(k, v) => other.attributes.get(k).is_some_and(|w| w == v),
+        }
+    }
+
+    fn word(&self) -> String {
+        match *self {
+            Feature::Property(p) => spoken(p),
+            Feature::Attribute(_, v) => spoken(v),
+        }
+    }
+}
+
+/// "the fragile vase", "the green notebook", "the mug (object5)": the object's type, preceded by
+/// each feature that rules out at least one remaining distractor (another object of its type),
+/// properties as listed and then attributes by key, in the order added; the id follows in
+/// parentheses when distractors remain.
+pub fn describe_object(scene: &Scene, object: &Object) -> String {
+    let mut distractors: Vec<&Object> = scene.same_kind(&object.kind, &object.id).collect();
+    let features = object
+        .properties
+        .iter()
+        .map(|p| Feature::Property(p))
+        .chain(
+            object
+                .attributes
+                .iter()
+                .map(|(k, v)| Feature::Attribute(k, v)),
+        );
+    let mut words = vec!["the".to_owned()];
+    for feature in features {
+        if distractors.is_empty() {
+            break;
+        }
+        let before = distractors.len();
+        distractors.retain(|d| feature.holds_for(d));
+        if distractors.len() < before {
+            words.push(feature.word());
+        }
+    }
+    words.push(spoken(&object.kind));
+    let mut text = words.join(" ");
+    if !distractors.is_empty() {
+        text.push_str(&format!(" ({})", object.id));
+    }
+    text
+}
+
+/// Describes objects, each at most once per request.
+pub struct Describer<'a> {
+    scene: &'a Scene,
+    library: &'a Library,
+    cache: HashMap<String, String>,
+}
+
+impl<'a> Describer<'a> {
+    pub fn new(scene: &'a Scene, library: &'a Library) -> Self {
+        Describer {
+            scene,
+            library,
+            cache: HashMap::new(),
+        }
+    }
+
+    /// An argument in words: an object of the scene by its description, another constant as
+    /// spoken, anything else as its canonical term.
+    pub fn argument(&mut self, arg: &Term) -> String {
+        match arg {
+            Term::Const(name) => match self.scene.object(name) {
+                Some(object) => self
+                    .cache
+                    .entry(object.id.clone())
+                    .or_insert_with(|| describe_object(self.scene, object))
+                    .clone(),
+                None => spoken(name),
+            },
+            other => other.to_string(),
+        }
+    }
+
+    /// The action's arguments in words, joined as its verb joins them ("the cup on the plate").
+    pub fn arguments(&mut self, action: &Term) -> String {
+        let joiner = self
+            .library
+            .lookup(action)
+            .and_then(|def| def.joiner.clone())
+            .unwrap_or_else(|| "and".to_owned());
+        let words: Vec<String> = action.args().iter().map(|a| self.argument(a)).collect();
+        words.join(&format!(" {joiner} "))
+    }
+
+    /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
+    pub fn reading(&mut self, action: &Term) -> String {
+        let verb = action
+            .name()
+            .map(|n| spoken(n))
+            .unwrap_or_else(|| action.to_string());
+        let args = self.arguments(action);
+        if args.is_empty() {
+            verb
+        } else {
+            format!("{verb} {args}")
+        }
+    }
+}

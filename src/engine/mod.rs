@@ -1,0 +1,22 @@
+//! The pure domain: terms, scenes, worlds, norms, actions, simulation, Algorithm 1, utterances.
+//!
+//! Must not: do I/O, be async, or name a web, RPC or database type. Everything it needs arrives
+//! as arguments, so it is tested without a runtime.
+
+pub mod action;
+pub mod clarify;
+pub mod describe;
+pub mod norms;
+pub mod scene;
+pub mod simulate;
+pub mod term;
+pub mod world;
+
+#[cfg(test)]
+mod tests;
+
+pub use action::Library;
+pub use clarify::{Decision, DecisionKind, Request, clarify};
+pub use norms::CompiledNorms;
+pub use scene::Scene;
+pub use term::Term;

@@ -1,0 +1,444 @@
+//! Norms: what they say, how a curator's input becomes one, and the compiled set a request checks.
+//!
+//! Owns: norm validation (field-relative errors), compilation into indexes keyed by action name and
+//! by fact functor, and the two checks (an action about to be done; the facts a step made true).
+//! Must not: read the database or know which transport asked.
+
+use std::collections::HashMap;
+
+use super::term::{Subst, Sym, Term};
+use super::world::World;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum NormKind {
+    ForbiddenAction,
+    ForbiddenState,
+}
+
+impl NormKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            NormKind::ForbiddenAction => "forbidden_action",
+            NormKind::ForbiddenState => "forbidden_state",
+        }
+    }
+
+    pub fn parse(text: &str) -> Option<NormKind> {
+        match text {
+            "forbidden_action" => Some(NormKind::ForbiddenAction),
+            "forbidden_state" => Some(NormKind::ForbiddenState),
+            _ => None,
+        }
+    }
+}
+
+pub const DEFAULT_SEVERITY: u8 = 3;
+pub const MAX_WHEN: usize = 16;
+pub const MAX_CONTEXT_LEN: usize = 128;
+pub const MAX_NOTE_LEN: usize = 4096;
+
+/// A valid norm, not yet stored. `term` is the forbidden action (a bare name forbids every action
+/// of that name, any arity) or the forbidden state fact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormSpec {
+    pub kind: NormKind,
+    pub term: Term,
+    /// Facts that must hold, under the same bindings, in the world at that moment.
+    pub when: Vec<Term>,
+    /// `None`: in force in every context.
+    pub context: Option<String>,
+    /// 1 (mild) ..= 5 (grave).
+    pub severity: u8,
+    pub note: Option<String>,
+}
+
+/// A stored norm.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Norm {
+    pub id: i64,
+    pub spec: NormSpec,
+}
+
+impl Norm {
+    fn applies_in(&self, context: &str) -> bool {
+        self.spec.context.as_deref().is_none_or(|c| c == context)
+    }
+}
+
+/// A norm as a curator wrote it, before validation. Every field optional so that a missing one
+/// gets its own error naming it.
+#[derive(Clone, Debug, Default)]
+pub struct NormInput {
+    pub kind: Option<String>,
+    pub action: Option<String>,
+    pub state: Option<String>,
+    pub when: Option<Vec<String>>,
+    pub context: Option<String>,
+    pub severity: Option<i64>,
+    pub note: Option<String>,
+}
+
+/// What is wrong with a norm, and where: `field` is a JSON Pointer relative to the norm.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct NormError {
+    pub field: String,
+    pub message: String,
+}
+
+fn norm_error(field: impl Into<String>, message: impl Into<String>) -> NormError {
+    NormError {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+/// A literal must name a fact or an action: a bare variable would match anything.
+fn parse_literal(field: &str, text: &str, what: &str) -> Result<Term, NormError> {
+    let term = Term::parse(text).map_err(|e| norm_error(field, format!("not a term: {e}")))?;
+    if term.is_var() {
+        return Err(norm_error(
+            field,
+            format!("{what} must start with a name, not a variable"),
+        ));
+    }
+    Ok(term)
+}
+
+impl NormInput {
+    /// Validates every field; the first fault found is reported, nothing is half-accepted.
+    pub fn validate(self) -> Result<NormSpec, NormError> {
+        let kind_text = self.kind.ok_or_else(|| {
+            norm_error("/kind", "missing; one of forbidden_action, forbidden_state")
+        })?;
+        let kind = NormKind::parse(&kind_text).ok_or_else(|| {
+            norm_error(
+                "/kind",
+                format!("unknown kind `{kind_text}`; one of forbidden_action, forbidden_state"),
+            )
+        })?;
+        let term = match kind {
+            NormKind::ForbiddenAction => {
+                if self.state.is_some() {
+                    return Err(norm_error(
+                        "/state",
+                        "a forbidden_action norm has `action`, not `state`",
+                    ));
+                }
+                let text = self.action.ok_or_else(|| {
+                    norm_error("/action", "missing; e.g. \"destroy\" or \"get(X)\"")
+                })?;
+                parse_literal("/action", &text, "an action")?
+            }
+            NormKind::ForbiddenState => {
+                if self.action.is_some() {
+                    return Err(norm_error(
+                        "/action",
+                        "a forbidden_state norm has `state`, not `action`",
+                    ));
+                }
+                let text = self
+                    .state
+                    .ok_or_else(|| norm_error("/state", "missing; e.g. \"holding(self,X)\""))?;
+                parse_literal("/state", &text, "a state")?
+            }
+        };
+        let when_texts = self.when.unwrap_or_default();
+        if when_texts.len() > MAX_WHEN {
+            return Err(norm_error(
+                "/when",
+                format!("at most {MAX_WHEN} conditions"),
+            ));
+        }
+        let when = when_texts
+            .iter()
+            .enumerate()
+            .map(|(i, text)| parse_literal(&format!("/when/{i}"), text, "a condition"))
+            .collect::<Result<Vec<_>, _>>()?;
+        if let Some(context) = &self.context
+            && (context.is_empty() || context.len() > MAX_CONTEXT_LEN)
+        {
+            return Err(norm_error(
+                "/context",
+                format!("must be 1 to {MAX_CONTEXT_LEN} bytes long"),
+            ));
+        }
+        let severity = match self.severity {
+            None => DEFAULT_SEVERITY,
+            Some(s @ 1..=5) => s as u8,
+            Some(s) => return Err(norm_error("/severity", format!("{s} is out of range 1..5"))),
+        };
+        if let Some(note) = &self.note
+            && note.len() > MAX_NOTE_LEN
+        {
+            return Err(norm_error("/note", format!("at most {MAX_NOTE_LEN} bytes")));
+        }
+        Ok(NormSpec {
+            kind,
+            term,
+            when,
+            context: self.context,
+            severity,
+            note: self.note,
+        })
+    }
+}
+
+/// A forbidden-action or forbidden-state rule, as checks use it.
+#[derive(Debug)]
+struct Rule {
+    norm: Norm,
+    /// For a state rule: the state followed by its `when` conditions; any of them may be the
+    /// literal a newly made-true fact matched.
+    literals: Vec<Term>,
+}
+
+/// A norm set compiled once per stored version: a check is a hash lookup plus unification.
+#[derive(Debug, Default)]
+pub struct CompiledNorms {
+    pub version: i64,
+    rules: Vec<Rule>,
+    /// Forbidden-action rules by the action's name, in id order.
+    actions_by_name: HashMap<Sym, Vec<usize>>,
+    /// Forbidden-state rules by the functor/arity of each of their literals, with the literal's
+    /// position; in id order.
+    states_by_key: HashMap<(Sym, usize), Vec<(usize, usize)>>,
+}
+
+/// A forbidden action found: which norm, and the name it forbids (spoken in refusals).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActionViolation {
+    pub norm_id: i64,
+    pub severity: u8,
+    pub name: Sym,
+}
+
+/// A forbidden state entered: which norm, and the fact (the norm's state, instantiated).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateViolation {
+    pub norm_id: i64,
+    pub severity: u8,
+    pub fact: Term,
+}
+
+impl CompiledNorms {
+    /// Compiles norms; they are indexed in ascending id order, so checks report in that order.
+    pub fn compile(version: i64, mut norms: Vec<Norm>) -> CompiledNorms {
+        norms.sort_by_key(|n| n.id);
+        let mut compiled = CompiledNorms {
+            version,
+            ..CompiledNorms::default()
+        };
+        for norm in norms {
+            let index = compiled.rules.len();
+            let mut literals = vec![norm.spec.term.clone()];
+            literals.extend(norm.spec.when.iter().cloned());
+            match norm.spec.kind {
+                NormKind::ForbiddenAction => {
+                    if let Some(name) = norm.spec.term.name() {
+                        compiled
+                            .actions_by_name
+                            .entry(name.clone())
+                            .or_default()
+                            .push(index);
+                    }
+                }
+                NormKind::ForbiddenState => {
+                    for (position, literal) in literals.iter().enumerate() {
+                        if let Some(name) = literal.name() {
+                            let entry = compiled
+                                .states_by_key
+                                .entry((name.clone(), literal.arity()))
+                                .or_default();
+                            if entry.last() != Some(&(index, position)) {
+                                entry.push((index, position));
+                            }
+                        }
+                    }
+                }
+            }
+            compiled.rules.push(Rule { norm, literals });
+        }
+        compiled
+    }
+
+    pub fn len(&self) -> usize {
+        self.rules.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rules.is_empty()
+    }
+
+    /// Forbidden-action norms in force in `context` that `action` violates in `world` (the world
+    /// before the action). A norm naming only an action (`destroy`) matches it at any arity.
+    pub fn check_action(
+        &self,
+        action: &Term,
+        world: &World,
+        context: &str,
+    ) -> Vec<ActionViolation> {
+        let Some(name) = action.name() else {
+            return Vec::new();
+        };
+        let Some(indices) = self.actions_by_name.get(name) else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for &index in indices {
+            let rule = &self.rules[index];
+            if !rule.norm.applies_in(context) {
+                continue;
+            }
+            let pattern = &rule.norm.spec.term;
+            let mut subst = Subst::new();
+            let matched = match pattern {
+                Term::Const(_) => true,
+                _ => subst.unify(pattern, action),
+            };
+            if matched && world.satisfiable(&rule.norm.spec.when, &subst) {
+                out.push(ActionViolation {
+                    norm_id: rule.norm.id,
+                    severity: rule.norm.spec.severity,
+                    name: name.clone(),
+                });
+            }
+        }
+        out
+    }
+
+    /// Forbidden states that `world` is in because of the facts in `new_facts` (just made true):
+    /// each violation involves at least one of them, so states the world was already in are not
+    /// reported again. Deterministic: by new fact, then norm id, then solution order.
+    pub fn check_entered(
+        &self,
+        new_facts: &[Term],
+        world: &World,
+        context: &str,
+    ) -> Vec<StateViolation> {
+        let mut out: Vec<StateViolation> = Vec::new();
+        for fact in new_facts {
+            let Some(name) = fact.name() else { continue };
+            let Some(hits) = self.states_by_key.get(&(name.clone(), fact.arity())) else {
+                continue;
+            };
+            for &(index, position) in hits {
+                let rule = &self.rules[index];
+                if !rule.norm.applies_in(context) {
+                    continue;
+                }
+                let mut seed = Subst::new();
+                if !seed.unify(&rule.literals[position], fact) {
+                    continue;
+                }
+                world.solve(&rule.literals, &seed, &mut |solution| {
+                    let state = rule.norm.spec.term.substitute(solution);
+                    if !out
+                        .iter()
+                        .any(|v| v.norm_id == rule.norm.id && v.fact == state)
+                    {
+                        out.push(StateViolation {
+                            norm_id: rule.norm.id,
+                            severity: rule.norm.spec.severity,
+                            fact: state,
+                        });
+                    }
+                    true
+                });
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn input(kind: &str) -> NormInput {
+        NormInput {
+            kind: Some(kind.into()),
+            ..NormInput::default()
+        }
+    }
+
+    #[test]
+    fn validation_names_the_field_at_fault() {
+        let cases: Vec<(NormInput, &str)> = vec![
+            (NormInput::default(), "/kind"),
+            (input("forbidden_thing"), "/kind"),
+            (input("forbidden_action"), "/action"),
+            (input("forbidden_state"), "/state"),
+            (
+                NormInput {
+                    action: Some("get(".into()),
+                    ..input("forbidden_action")
+                },
+                "/action",
+            ),
+            (
+                NormInput {
+                    action: Some("X".into()),
+                    ..input("forbidden_action")
+                },
+                "/action",
+            ),
+            (
+                NormInput {
+                    state: Some("p(a)".into()),
+                    ..input("forbidden_action")
+                },
+                "/state",
+            ),
+            (
+                NormInput {
+                    state: Some("p(X)".into()),
+                    when: Some(vec!["q(X)".into(), "r(".into()]),
+                    ..input("forbidden_state")
+                },
+                "/when/1",
+            ),
+            (
+                NormInput {
+                    action: Some("get".into()),
+                    severity: Some(0),
+                    ..input("forbidden_action")
+                },
+                "/severity",
+            ),
+            (
+                NormInput {
+                    action: Some("get".into()),
+                    severity: Some(6),
+                    ..input("forbidden_action")
+                },
+                "/severity",
+            ),
+            (
+                NormInput {
+                    action: Some("get".into()),
+                    context: Some(String::new()),
+                    ..input("forbidden_action")
+                },
+                "/context",
+            ),
+        ];
+        for (norm, field) in cases {
+            let err = norm.clone().validate().unwrap_err();
+            assert_eq!(err.field, field, "{norm:?}: {err}");
+        }
+    }
+
+    #[test]
+    fn valid_norms_get_defaults_and_canonical_terms() {
+        let spec = NormInput {
+            action: Some("get( X )".into()),
+            ..input("forbidden_action")
+        }
+        .validate()
+        .unwrap();
+        assert_eq!(spec.term.to_string(), "get(X)");
+        assert_eq!(spec.severity, DEFAULT_SEVERITY);
+        assert!(spec.when.is_empty() && spec.context.is_none());
+    }
+}

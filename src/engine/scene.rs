@@ -1,0 +1,303 @@
+//! The scene a request carries: the agent, the objects with their geometry, and extra facts.
+//!
+//! Owns: the validated scene model, the facts each object yields, and reach (a parry3d distance
+//! query). Must not: parse JSON or know about norms; a `Scene` is valid by construction.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::OnceLock;
+
+use parry3d::math::{Isometry, Point, Real, Translation, Vector};
+use parry3d::na::{Quaternion, UnitQuaternion};
+use parry3d::query::PointQuery;
+use parry3d::shape::{Ball, Cuboid, Cylinder};
+
+use super::term::{Sym, Term};
+
+/// The robot itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Agent {
+    pub id: String,
+    /// Centre of the arm's base, metres, world frame (right-handed, z up).
+    pub position: [f64; 3],
+    /// Largest distance, metres, from `position` to an object's shape the gripper can still touch.
+    pub reach: f64,
+}
+
+/// An object's shape, in its own frame, centred on the object's `position`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// Radius in metres.
+    Ball { radius: f64 },
+    /// Half the side lengths along the object's x, y and z, metres.
+    Cuboid { half_extents: [f64; 3] },
+    /// Axis along the object's z; radius and half the height, metres.
+    Cylinder { radius: f64, half_height: f64 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    pub id: String,
+    pub kind: String,
+    /// In the order given: the Incremental Algorithm tries them in this order.
+    pub properties: Vec<String>,
+    /// Keyed in byte order, which is the order the Incremental Algorithm tries them.
+    pub attributes: BTreeMap<String, String>,
+    /// Centre of the shape, metres, world frame.
+    pub position: [f64; 3],
+    /// `None`: the object is a point at `position`.
+    pub shape: Option<Shape>,
+    /// Unit quaternion `[x, y, z, w]` turning the shape about its centre; `None` is the identity.
+    pub rotation: Option<[f64; 4]>,
+}
+
+/// A validated scene: ids are unique, geometry is finite and positive.
+#[derive(Debug)]
+pub struct Scene {
+    pub agent: Agent,
+    pub objects: Vec<Object>,
+    /// Ground facts given beside the objects.
+    pub facts: Vec<Term>,
+    by_id: HashMap<String, usize>,
+    /// Reachability per object, computed at most once per request and only for objects asked about.
+    reach_cache: Vec<OnceLock<bool>>,
+}
+
+impl Scene {
+    /// Builds the scene; the caller has already checked every field (ids unique, geometry finite).
+    pub fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
+        let by_id = objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (o.id.clone(), i))
+            .collect();
+        let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
+        Scene {
+            agent,
+            objects,
+            facts,
+            by_id,
+            reach_cache,
+        }
+    }
+
+    pub fn object(&self, id: &str) -> Option<&Object> {
+        self.by_id.get(id).map(|&i| &self.objects[i])
+    }
+
+    pub fn index_of(&self, id: &str) -> Option<usize> {
+        self.by_id.get(id).copied()
+    }
+
+    /// Every fact the scene states: for each object its type, properties and attributes, then
+    /// `facts` as given.
+    pub fn all_facts(&self) -> Vec<Term> {
+        let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
+        for object in &self.objects {
+            let id = Term::constant(&object.id);
+            out.push(Term::compound(&object.kind, vec![id.clone()]));
+            for property in &object.properties {
+                out.push(Term::compound(property, vec![id.clone()]));
+            }
+            for (key, value) in &object.attributes {
+                out.push(Term::compound(key, vec![id.clone(), Term::constant(value)]));
+            }
+        }
+        out.extend(self.facts.iter().cloned());
+        out
+    }
+
+    /// Whether the agent can touch the object: the distance from the agent's position to the
+    /// object's shape (zero inside it) is at most `reach`. `None` when no such object exists.
+    pub fn within_reach(&self, id: &str) -> Option<bool> {
+        let index = self.index_of(id)?;
+        Some(*self.reach_cache[index].get_or_init(|| {
+            distance_to_shape(&self.objects[index], &self.agent.position) <= self.agent.reach
+        }))
+    }
+
+    /// Objects of the given type other than `id`, in scene order.
+    pub fn same_kind<'a>(
+        &'a self,
+        kind: &'a str,
+        id: &'a str,
+    ) -> impl Iterator<Item = &'a Object> + 'a {
+        self.objects
+            .iter()
+            .filter(move |o| o.kind == kind && o.id != id)
+    }
+}
+
+/// Distance in metres from `point` (world frame) to the object's solid shape; zero inside it.
+pub fn distance_to_shape(object: &Object, point: &[f64; 3]) -> f64 {
+    let p = Point::new(point[0] as Real, point[1] as Real, point[2] as Real);
+    let centre = Vector::new(
+        object.position[0] as Real,
+        object.position[1] as Real,
+        object.position[2] as Real,
+    );
+    let rotation = match object.rotation {
+        Some([x, y, z, w]) => UnitQuaternion::from_quaternion(Quaternion::new(
+            w as Real, x as Real, y as Real, z as Real,
+        )),
+        None => UnitQuaternion::identity(),
+    };
+    let pose = Isometry::from_parts(Translation::from(centre), rotation);
+    let distance = match &object.shape {
+        None => return euclid(&object.position, point),
+        Some(Shape::Ball { radius }) => {
+            Ball::new(*radius as Real).distance_to_point(&pose, &p, true)
+        }
+        Some(Shape::Cuboid { half_extents: h }) => {
+            Cuboid::new(Vector::new(h[0] as Real, h[1] as Real, h[2] as Real))
+                .distance_to_point(&pose, &p, true)
+        }
+        Some(Shape::Cylinder {
+            radius,
+            half_height,
+        }) => {
+            // parry's cylinder stands along its local y; ours along the object's z. A quarter
+            // turn about x carries local y onto z before the object's own rotation applies.
+            let y_to_z =
+                UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::FRAC_PI_2);
+            let pose = pose * Isometry::from_parts(Translation::identity(), y_to_z);
+            Cylinder::new(*half_height as Real, *radius as Real).distance_to_point(&pose, &p, true)
+        }
+    };
+    f64::from(distance)
+}
+
+fn euclid(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// A type, value or verb as spoken: `_` as spaces, camel case split, lower case.
+/// `cash_box` → "cash box", `pointTo` → "point to".
+pub fn spoken(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    let mut previous: Option<char> = None;
+    for c in name.chars() {
+        if c == '_' {
+            if !out.ends_with(' ') && !out.is_empty() {
+                out.push(' ');
+            }
+        } else if c.is_uppercase() {
+            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit())
+                && !out.ends_with(' ')
+            {
+                out.push(' ');
+            }
+            out.extend(c.to_lowercase());
+        } else {
+            out.push(c);
+        }
+        previous = Some(c);
+    }
+    out.trim_end().to_owned()
+}
+
+/// The symbol for an object id, as terms carry it.
+pub fn id_sym(id: &str) -> Sym {
+    Sym::from(id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn object(position: [f64; 3], shape: Option<Shape>, rotation: Option<[f64; 4]>) -> Object {
+        Object {
+            id: "o".into(),
+            kind: "thing".into(),
+            properties: vec![],
+            attributes: BTreeMap::new(),
+            position,
+            shape,
+            rotation,
+        }
+    }
+
+    #[test]
+    fn distances_follow_each_shape_and_rotation() {
+        let origin = [0.0, 0.0, 0.0];
+        let cases: Vec<(Object, f64)> = vec![
+            (object([1.0, 0.0, 0.0], None, None), 1.0),
+            (
+                object([1.0, 0.0, 0.0], Some(Shape::Ball { radius: 0.25 }), None),
+                0.75,
+            ),
+            (
+                object(
+                    [1.0, 0.0, 0.0],
+                    Some(Shape::Cuboid {
+                        half_extents: [0.1, 0.5, 0.5],
+                    }),
+                    None,
+                ),
+                0.9,
+            ),
+            // Cylinder axis along z: its radius faces the agent along x.
+            (
+                object(
+                    [1.0, 0.0, 0.0],
+                    Some(Shape::Cylinder {
+                        radius: 0.2,
+                        half_height: 0.5,
+                    }),
+                    None,
+                ),
+                0.8,
+            ),
+            // Straight above: the cap (half height) faces the agent.
+            (
+                object(
+                    [0.0, 0.0, 1.0],
+                    Some(Shape::Cylinder {
+                        radius: 0.2,
+                        half_height: 0.5,
+                    }),
+                    None,
+                ),
+                0.5,
+            ),
+            // The same cylinder turned a quarter about y lies along x: the radius faces up.
+            (
+                object(
+                    [0.0, 0.0, 1.0],
+                    Some(Shape::Cylinder {
+                        radius: 0.2,
+                        half_height: 0.5,
+                    }),
+                    Some([
+                        0.0,
+                        std::f64::consts::FRAC_1_SQRT_2,
+                        0.0,
+                        std::f64::consts::FRAC_1_SQRT_2,
+                    ]),
+                ),
+                0.8,
+            ),
+            // Inside the shape: zero.
+            (
+                object([0.0, 0.0, 0.0], Some(Shape::Ball { radius: 1.0 }), None),
+                0.0,
+            ),
+        ];
+        for (object, expected) in cases {
+            let d = distance_to_shape(&object, &origin);
+            assert!((d - expected).abs() < 1e-5, "{object:?}: {d} != {expected}");
+        }
+    }
+
+    #[test]
+    fn spoken_forms() {
+        for (name, words) in [
+            ("cash_box", "cash box"),
+            ("pointTo", "point to"),
+            ("mug", "mug"),
+            ("getURL", "get url"),
+            ("dark_red", "dark red"),
+        ] {
+            assert_eq!(spoken(name), words);
+        }
+    }
+}

@@ -1,0 +1,276 @@
+//! Simulating one reading in its own copy of the world, gathering every reason it cannot be done.
+//!
+//! Owns: DIARC's check order, step expansion, effects, and feasibility (reach, preconditions).
+//! Must not: stop at the first failure (every reason is gathered), share a world between
+//! readings, or decide what to say.
+
+use super::action::{Library, Step};
+use super::norms::CompiledNorms;
+use super::scene::Scene;
+use super::term::{Subst, Sym, Term};
+use super::world::World;
+
+/// Steps may expand into steps at most this deep; a deeper plan is a reason, not a crash.
+pub const MAX_PLAN_DEPTH: usize = 8;
+
+/// Why a reading is impermissible or infeasible.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Cause {
+    /// `step` is done, and a norm forbids actions named `name`.
+    ForbiddenAction { step: Term, name: Sym },
+    /// The world would enter a state in which `fact` holds, and a norm forbids it.
+    ForbiddenState { fact: Term },
+    /// The library has no verb of this name and arity.
+    UnknownAction { verb: Sym },
+    /// The object is farther than the agent's reach.
+    Unreachable { object: Sym },
+    /// A handling step names something that is not an object of the scene.
+    UnknownObject { object: Term },
+    /// A verb's precondition does not hold when it would run.
+    Precondition { fact: Term },
+    /// The plan expands deeper than [`MAX_PLAN_DEPTH`].
+    PlanTooDeep { step: Term },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reason {
+    pub cause: Cause,
+    /// The norm behind a `forbidden_*` reason.
+    pub norm_id: Option<i64>,
+    /// That norm's severity, 1..=5.
+    pub severity: Option<u8>,
+}
+
+impl Reason {
+    fn infeasible(cause: Cause) -> Reason {
+        Reason {
+            cause,
+            norm_id: None,
+            severity: None,
+        }
+    }
+
+    /// The contract's reason kind.
+    pub fn kind(&self) -> &'static str {
+        match self.cause {
+            Cause::ForbiddenAction { .. } => "forbidden_action",
+            Cause::ForbiddenState { .. } => "forbidden_state",
+            Cause::UnknownAction { .. } => "unknown_action",
+            Cause::Unreachable { .. } => "unreachable",
+            Cause::UnknownObject { .. } => "unknown_object",
+            Cause::Precondition { .. } => "precondition",
+            Cause::PlanTooDeep { .. } => "plan_too_deep",
+        }
+    }
+
+    /// What exactly: the forbidden step or fact, the unknown verb, the object out of reach.
+    pub fn detail(&self) -> String {
+        match &self.cause {
+            Cause::ForbiddenAction { step, .. } => step.to_string(),
+            Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.to_string(),
+            Cause::UnknownAction { verb } => verb.to_string(),
+            Cause::Unreachable { object } => object.to_string(),
+            Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => {
+                object.to_string()
+            }
+        }
+    }
+
+    /// The reason as a term, as speech acts carry it: `forbiddenAction(destroy)`.
+    pub fn term(&self) -> Term {
+        let (name, arg) = match &self.cause {
+            Cause::ForbiddenAction { name, .. } => ("forbiddenAction", Term::Const(name.clone())),
+            Cause::ForbiddenState { fact } => ("forbiddenState", fact.clone()),
+            Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
+            Cause::Unreachable { object } => ("unreachable", Term::Const(object.clone())),
+            Cause::UnknownObject { object } => ("unknownObject", object.clone()),
+            Cause::Precondition { fact } => ("precondition", fact.clone()),
+            Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
+        };
+        Term::compound(name, vec![arg])
+    }
+
+    pub fn is_norm_violation(&self) -> bool {
+        matches!(
+            self.cause,
+            Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
+        )
+    }
+}
+
+/// What simulating one reading found.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outcome {
+    /// Every reason, in DIARC's check order, each once.
+    pub reasons: Vec<Reason>,
+    /// The primitive steps executed, in order.
+    pub plan: Vec<Term>,
+}
+
+impl Outcome {
+    pub fn permissible(&self) -> bool {
+        !self.reasons.iter().any(Reason::is_norm_violation)
+    }
+
+    pub fn feasible(&self) -> bool {
+        self.reasons.iter().all(Reason::is_norm_violation)
+    }
+}
+
+/// `did(self,action)`: the paper's convention for "action is done".
+pub fn did(action: &Term) -> Term {
+    Term::compound("did", vec![Term::constant("self"), action.clone()])
+}
+
+/// Everything a simulation reads; shared by all readings of a request.
+pub struct Env<'a> {
+    pub scene: &'a Scene,
+    pub norms: &'a CompiledNorms,
+    pub library: &'a Library,
+    pub context: &'a str,
+}
+
+struct Run<'a> {
+    env: &'a Env<'a>,
+    world: World,
+    outcome: Outcome,
+}
+
+impl Run<'_> {
+    fn push(&mut self, reason: Reason) {
+        if !self.outcome.reasons.contains(&reason) {
+            self.outcome.reasons.push(reason);
+        }
+    }
+
+    fn check_action(&mut self, action: &Term) {
+        for v in self
+            .env
+            .norms
+            .check_action(action, &self.world, self.env.context)
+        {
+            self.push(Reason {
+                cause: Cause::ForbiddenAction {
+                    step: action.clone(),
+                    name: v.name,
+                },
+                norm_id: Some(v.norm_id),
+                severity: Some(v.severity),
+            });
+        }
+    }
+
+    fn check_entered(&mut self, world: &World, new_facts: &[Term]) {
+        for v in self
+            .env
+            .norms
+            .check_entered(new_facts, world, self.env.context)
+        {
+            self.push(Reason {
+                cause: Cause::ForbiddenState { fact: v.fact },
+                norm_id: Some(v.norm_id),
+                severity: Some(v.severity),
+            });
+        }
+    }
+
+    /// Runs `action`'s steps. `checked` is true when the action was already checked against the
+    /// forbidden actions (the directive itself, in check (1)).
+    fn run(&mut self, action: &Term, checked: bool, depth: usize) {
+        if depth > MAX_PLAN_DEPTH {
+            self.push(Reason::infeasible(Cause::PlanTooDeep {
+                step: action.clone(),
+            }));
+            return;
+        }
+        if !checked {
+            self.check_action(action);
+        }
+        let env = self.env;
+        let Some(def) = env.library.lookup(action) else {
+            self.push(Reason::infeasible(Cause::UnknownAction {
+                verb: action
+                    .name()
+                    .cloned()
+                    .unwrap_or_else(|| Sym::from(action.to_string())),
+            }));
+            return;
+        };
+        let Some(bindings) = def.bind(action) else {
+            return;
+        };
+        for step in &def.steps {
+            match step {
+                Step::Do(sub) => self.run(&sub.substitute(&bindings), false, depth + 1),
+                Step::Itself => self.execute(action, def, &bindings),
+            }
+        }
+    }
+
+    /// The verb's own execution: effects (and the states they enter), then needs, judged on the
+    /// world before the effects.
+    fn execute(&mut self, action: &Term, def: &super::action::ActionDef, bindings: &Subst) {
+        let before = self.world.clone();
+        self.outcome.plan.push(action.clone());
+        for fact in &def.removes {
+            self.world.retract(&fact.substitute(bindings));
+        }
+        let mut new_facts = Vec::new();
+        for fact in def
+            .adds
+            .iter()
+            .map(|f| f.substitute(bindings))
+            .chain([did(action)])
+        {
+            if self.world.assert(fact.clone()) {
+                new_facts.push(fact);
+            }
+        }
+        let world = self.world.clone();
+        self.check_entered(&world, &new_facts);
+        for param in &def.reach {
+            let Some(target) = bindings.get(param) else {
+                continue;
+            };
+            let reachable = match target {
+                Term::Const(id) => self.env.scene.within_reach(id),
+                _ => None,
+            };
+            match reachable {
+                Some(true) => {}
+                Some(false) => self.push(Reason::infeasible(Cause::Unreachable {
+                    object: target.name().cloned().unwrap_or_default(),
+                })),
+                None => self.push(Reason::infeasible(Cause::UnknownObject {
+                    object: target.clone(),
+                })),
+            }
+        }
+        for precondition in &def.preconditions {
+            let fact = precondition.substitute(bindings);
+            if !before.satisfiable(std::slice::from_ref(&fact), &Subst::new()) {
+                self.push(Reason::infeasible(Cause::Precondition { fact }));
+            }
+        }
+    }
+}
+
+/// Simulates doing `action` (ground) in a private copy of `world`, in DIARC's order: (1) the
+/// directive against the forbidden actions; (2) `did(self,action)` against the forbidden states;
+/// (3) whether the verb is known; (4) each step: the step against the forbidden actions, the
+/// states its effects enter, its needs. It goes on past failures so that every reason is found.
+pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
+    let mut run = Run {
+        env,
+        world: world.clone(),
+        outcome: Outcome::default(),
+    };
+    run.check_action(action);
+    let mut hypothetical = world.clone();
+    let done = did(action);
+    if hypothetical.assert(done.clone()) {
+        run.check_entered(&hypothetical, &[done]);
+    }
+    run.run(action, true, 0);
+    run.outcome
+}

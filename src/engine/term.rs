@@ -1,0 +1,447 @@
+//! Logical terms in DIARC's syntax: parsing, the canonical printer, and unification.
+//!
+//! Owns: `name(arg,...)`, variables (`X`, `?x`), `name:type` annotations (dropped at parse time),
+//! substitutions and matching. Must not: know about worlds, norms or any transport.
+
+use std::fmt;
+use std::sync::Arc;
+
+/// A symbol: the name of a constant, a variable or a functor. Cheap to clone and to compare.
+pub type Sym = Arc<str>;
+
+/// Nesting deeper than this is refused by the parser, so that no input can exhaust the stack.
+pub const MAX_DEPTH: usize = 32;
+/// Longest term text the parser accepts, in bytes.
+pub const MAX_LEN: usize = 4096;
+
+/// A logical term. Constants and compounds are ground unless an argument holds a variable.
+#[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Term {
+    /// A constant such as `object3` or `self`.
+    Const(Sym),
+    /// A variable such as `X` or `?x`; its name keeps the leading `?` when written with one.
+    Var(Sym),
+    /// `name(args...)` with at least one argument.
+    Compound(Sym, Arc<[Term]>),
+}
+
+impl Term {
+    pub fn constant(name: &str) -> Term {
+        Term::Const(Sym::from(name))
+    }
+
+    pub fn compound(name: &str, args: Vec<Term>) -> Term {
+        if args.is_empty() {
+            Term::constant(name)
+        } else {
+            Term::Compound(Sym::from(name), args.into())
+        }
+    }
+
+    /// Parses one term; see [`ParseError`] for what can go wrong.
+    pub fn parse(text: &str) -> Result<Term, ParseError> {
+        if text.len() > MAX_LEN {
+            return Err(ParseError {
+                position: MAX_LEN,
+                message: format!("term is longer than {MAX_LEN} bytes"),
+            });
+        }
+        let mut parser = Parser { text, pos: 0 };
+        parser.skip_space();
+        let term = parser.term(0)?;
+        parser.skip_space();
+        if parser.pos < text.len() {
+            return Err(parser.error(format!(
+                "unexpected `{}` after the end of the term",
+                parser.peek_char().unwrap_or(' ')
+            )));
+        }
+        Ok(term)
+    }
+
+    /// The functor name: a constant's own name, a compound's name; `None` for a variable.
+    pub fn name(&self) -> Option<&Sym> {
+        match self {
+            Term::Const(name) | Term::Compound(name, _) => Some(name),
+            Term::Var(_) => None,
+        }
+    }
+
+    pub fn args(&self) -> &[Term] {
+        match self {
+            Term::Compound(_, args) => args,
+            _ => &[],
+        }
+    }
+
+    pub fn arity(&self) -> usize {
+        self.args().len()
+    }
+
+    pub fn is_var(&self) -> bool {
+        matches!(self, Term::Var(_))
+    }
+
+    pub fn is_ground(&self) -> bool {
+        match self {
+            Term::Const(_) => true,
+            Term::Var(_) => false,
+            Term::Compound(_, args) => args.iter().all(Term::is_ground),
+        }
+    }
+
+    /// Variables in the order they first appear, each once.
+    pub fn variables(&self) -> Vec<Sym> {
+        fn walk(term: &Term, out: &mut Vec<Sym>) {
+            match term {
+                Term::Var(v) => {
+                    if !out.contains(v) {
+                        out.push(v.clone());
+                    }
+                }
+                Term::Compound(_, args) => args.iter().for_each(|a| walk(a, out)),
+                Term::Const(_) => {}
+            }
+        }
+        let mut out = Vec::new();
+        walk(self, &mut out);
+        out
+    }
+
+    /// This term with every bound variable replaced by its value (followed through chains).
+    pub fn substitute(&self, subst: &Subst) -> Term {
+        match self {
+            Term::Var(_) => {
+                let resolved = subst.walk(self);
+                if resolved.is_var() {
+                    resolved.clone()
+                } else {
+                    resolved.substitute(subst)
+                }
+            }
+            Term::Const(_) => self.clone(),
+            Term::Compound(name, args) => Term::Compound(
+                name.clone(),
+                args.iter().map(|a| a.substitute(subst)).collect(),
+            ),
+        }
+    }
+}
+
+/// Canonical form: no spaces, no types: `did(self,get(object3))`.
+impl fmt::Display for Term {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Term::Const(name) | Term::Var(name) => f.write_str(name),
+            Term::Compound(name, args) => {
+                f.write_str(name)?;
+                f.write_str("(")?;
+                for (i, arg) in args.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(",")?;
+                    }
+                    write!(f, "{arg}")?;
+                }
+                f.write_str(")")
+            }
+        }
+    }
+}
+
+impl fmt::Debug for Term {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{self}")
+    }
+}
+
+/// Why a text is not a term: the byte offset where reading stopped, and what was expected there.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("at byte {position}: {message}")]
+pub struct ParseError {
+    pub position: usize,
+    pub message: String,
+}
+
+/// True for a character that may appear inside a name.
+fn is_name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.'
+}
+
+/// True when `text` is a name that reads back as a constant (not a variable, no punctuation).
+pub fn is_constant_name(text: &str) -> bool {
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(first) if first.is_ascii_lowercase() || first.is_ascii_digit() || first == '_' => {
+            chars.all(is_name_char)
+        }
+        _ => false,
+    }
+}
+
+struct Parser<'a> {
+    text: &'a str,
+    pos: usize,
+}
+
+impl Parser<'_> {
+    fn error(&self, message: String) -> ParseError {
+        ParseError {
+            position: self.pos,
+            message,
+        }
+    }
+
+    fn peek_char(&self) -> Option<char> {
+        self.text[self.pos..].chars().next()
+    }
+
+    fn skip_space(&mut self) {
+        while let Some(c) = self.peek_char() {
+            if c.is_whitespace() {
+                self.pos += c.len_utf8();
+            } else {
+                break;
+            }
+        }
+    }
+
+    fn name(&mut self) -> &str {
+        let start = self.pos;
+        while let Some(c) = self.peek_char() {
+            if is_name_char(c) {
+                self.pos += 1;
+            } else {
+                break;
+            }
+        }
+        &self.text[start..self.pos]
+    }
+
+    fn term(&mut self, depth: usize) -> Result<Term, ParseError> {
+        if depth >= MAX_DEPTH {
+            return Err(self.error(format!("terms may nest at most {MAX_DEPTH} deep")));
+        }
+        let is_question_var = self.peek_char() == Some('?');
+        if is_question_var {
+            self.pos += 1;
+        }
+        let start = self.pos;
+        let name = self.name().to_owned();
+        if name.is_empty() {
+            return Err(match self.peek_char() {
+                None => self.error("expected a name, found the end of the text".into()),
+                Some(c) => self.error(format!("expected a name, found `{c}`")),
+            });
+        }
+        let first = name.chars().next().unwrap_or('a');
+        let is_var = is_question_var || first.is_ascii_uppercase();
+        self.skip_space();
+        // `name:type`: the type is read and dropped; matching ignores it.
+        if self.peek_char() == Some(':') {
+            self.pos += 1;
+            self.skip_space();
+            if self.name().is_empty() {
+                return Err(self.error("expected a type name after `:`".into()));
+            }
+            self.skip_space();
+        }
+        if is_var {
+            if self.peek_char() == Some('(') {
+                return Err(self.error(format!(
+                    "`{}` is a variable and cannot take arguments (functor names start lower-case)",
+                    &self.text
+                        [start.saturating_sub(usize::from(is_question_var))..start + name.len()]
+                )));
+            }
+            let full = if is_question_var {
+                format!("?{name}")
+            } else {
+                name
+            };
+            return Ok(Term::Var(Sym::from(full)));
+        }
+        if self.peek_char() != Some('(') {
+            return Ok(Term::Const(Sym::from(name)));
+        }
+        self.pos += 1;
+        let mut args = Vec::new();
+        loop {
+            self.skip_space();
+            args.push(self.term(depth + 1)?);
+            self.skip_space();
+            match self.peek_char() {
+                Some(',') => self.pos += 1,
+                Some(')') => {
+                    self.pos += 1;
+                    break;
+                }
+                Some(c) => return Err(self.error(format!("expected `,` or `)`, found `{c}`"))),
+                None => {
+                    return Err(self.error("expected `,` or `)`, found the end of the text".into()));
+                }
+            }
+        }
+        Ok(Term::Compound(Sym::from(name), args.into()))
+    }
+}
+
+/// Variable bindings. Small by construction (a norm has a handful of variables), so a vector.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Subst {
+    bindings: Vec<(Sym, Term)>,
+}
+
+impl Subst {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn get(&self, var: &str) -> Option<&Term> {
+        self.bindings
+            .iter()
+            .find(|(v, _)| &**v == var)
+            .map(|(_, t)| t)
+    }
+
+    pub fn bind(&mut self, var: Sym, value: Term) {
+        self.bindings.push((var, value));
+    }
+
+    /// Follows variable-to-variable bindings until a non-variable or an unbound variable.
+    fn walk<'a>(&'a self, mut term: &'a Term) -> &'a Term {
+        while let Term::Var(v) = term {
+            match self.get(v) {
+                Some(next) => term = next,
+                None => break,
+            }
+        }
+        term
+    }
+
+    fn occurs(&self, var: &Sym, term: &Term) -> bool {
+        match self.walk(term) {
+            Term::Var(v) => v == var,
+            Term::Const(_) => false,
+            Term::Compound(_, args) => args.iter().any(|a| self.occurs(var, a)),
+        }
+    }
+
+    /// Extends the substitution so that `a` and `b` become equal; on failure the substitution may
+    /// hold partial bindings, so callers unify into a copy they can drop.
+    pub fn unify(&mut self, a: &Term, b: &Term) -> bool {
+        let a = self.walk(a).clone();
+        let b = self.walk(b).clone();
+        match (&a, &b) {
+            (Term::Var(x), Term::Var(y)) if x == y => true,
+            (Term::Var(x), other) | (other, Term::Var(x)) => {
+                if self.occurs(x, other) {
+                    return false;
+                }
+                self.bind(x.clone(), other.clone());
+                true
+            }
+            (Term::Const(x), Term::Const(y)) => x == y,
+            (Term::Compound(f, xs), Term::Compound(g, ys)) => {
+                f == g
+                    && xs.len() == ys.len()
+                    && xs.iter().zip(ys.iter()).all(|(x, y)| self.unify(x, y))
+            }
+            _ => false,
+        }
+    }
+}
+
+/// The most general unifier of two terms, if any.
+pub fn unify(a: &Term, b: &Term) -> Option<Subst> {
+    let mut subst = Subst::new();
+    subst.unify(a, b).then_some(subst)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(s: &str) -> Term {
+        Term::parse(s).unwrap()
+    }
+
+    #[test]
+    fn parses_and_prints_canonically() {
+        let cases = [
+            ("did(self,get(object3))", "did(self,get(object3))"),
+            ("  did( self , get( X ) ) ", "did(self,get(X))"),
+            (
+                "want(human:agent, did(self:agent, get(?x:physobj)))",
+                "want(human,did(self,get(?x)))",
+            ),
+            ("destroy", "destroy"),
+            ("on(object3, table1)", "on(object3,table1)"),
+            ("mass(box1,0.5)", "mass(box1,0.5)"),
+        ];
+        for (input, canonical) in cases {
+            assert_eq!(t(input).to_string(), canonical, "{input}");
+        }
+    }
+
+    #[test]
+    fn variables_are_upper_case_or_question_marked() {
+        assert!(t("X").is_var());
+        assert!(t("?thing").is_var());
+        assert!(!t("x").is_var());
+        assert_eq!(
+            t("p(X, f(?y, X), Z)").variables(),
+            vec![Sym::from("X"), Sym::from("?y"), Sym::from("Z")]
+        );
+    }
+
+    #[test]
+    fn parse_errors_say_where_and_why() {
+        let cases = [
+            ("get(", 4, "expected a name, found the end of the text"),
+            ("get(a b)", 6, "expected `,` or `)`, found `b`"),
+            ("get(a))", 6, "unexpected `)` after the end of the term"),
+            ("", 0, "expected a name, found the end of the text"),
+            ("X(a)", 1, "is a variable and cannot take arguments"),
+            ("get(,)", 4, "expected a name, found `,`"),
+            ("a:", 2, "expected a type name after `:`"),
+        ];
+        for (input, position, message) in cases {
+            let err = Term::parse(input).unwrap_err();
+            assert_eq!(err.position, position, "{input}: {err}");
+            assert!(err.message.contains(message), "{input}: {err}");
+        }
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_not_a_stack_overflow() {
+        let deep = format!("{}a{}", "f(".repeat(10_000), ")".repeat(10_000));
+        assert!(Term::parse(&deep).is_err());
+        let ok = format!(
+            "{}a{}",
+            "f(".repeat(MAX_DEPTH - 1),
+            ")".repeat(MAX_DEPTH - 1)
+        );
+        assert!(Term::parse(&ok).is_ok());
+    }
+
+    #[test]
+    fn unification_binds_both_sides_and_respects_occurs_check() {
+        let s = unify(&t("get(X, b)"), &t("get(a, Y)")).unwrap();
+        assert_eq!(t("p(X,Y)").substitute(&s).to_string(), "p(a,b)");
+        assert!(unify(&t("get(a)"), &t("get(b)")).is_none());
+        assert!(unify(&t("get(a)"), &t("put(a)")).is_none());
+        assert!(unify(&t("X"), &t("f(X)")).is_none());
+        let s = unify(&t("p(X, X)"), &t("p(Y, c)")).unwrap();
+        assert_eq!(t("X").substitute(&s).to_string(), "c");
+    }
+
+    #[test]
+    fn constant_names() {
+        assert!(is_constant_name("object3"));
+        assert!(is_constant_name("cash_box"));
+        assert!(!is_constant_name("Object3"));
+        assert!(!is_constant_name("a b"));
+        assert!(!is_constant_name(""));
+        assert!(!is_constant_name("?x"));
+    }
+}

@@ -1,0 +1,216 @@
+//! The world a simulation runs in: an immutable base of facts shared by every reading, and a
+//! private copy-on-write overlay per reading.
+//!
+//! Owns: fact storage indexed by functor and arity, overlays, and conjunctive queries over them.
+//! Must not: copy the base per reading (a copy costs what the simulation changes), or iterate a
+//! hash set where order reaches the output (every iteration here is in insertion order).
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use indexmap::IndexSet;
+
+use super::term::{Subst, Sym, Term};
+
+/// A fact's index key: its functor name and arity (`on/2`).
+type Key = (Sym, usize);
+
+fn key_of(term: &Term) -> Option<Key> {
+    term.name().map(|name| (name.clone(), term.arity()))
+}
+
+/// The facts of the scene, built once per request and shared by every reading.
+#[derive(Debug, Default)]
+pub struct Base {
+    facts: HashSet<Term>,
+    /// Facts by functor, in the order the scene states them.
+    index: HashMap<Key, Vec<Term>>,
+}
+
+impl Base {
+    pub fn new(facts: impl IntoIterator<Item = Term>) -> Base {
+        let mut base = Base::default();
+        for fact in facts {
+            if base.facts.insert(fact.clone())
+                && let Some(key) = key_of(&fact)
+            {
+                base.index.entry(key).or_default().push(fact);
+            }
+        }
+        base
+    }
+
+    pub fn len(&self) -> usize {
+        self.facts.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.facts.is_empty()
+    }
+}
+
+/// One reading's view of the world: the shared base plus what its simulation added and removed.
+/// Cloning it copies only the overlay.
+#[derive(Clone, Debug)]
+pub struct World {
+    base: Arc<Base>,
+    /// Facts made true by the simulation that the base does not hold, in the order made true.
+    added: IndexSet<Term>,
+    /// Base facts the simulation made false.
+    removed: HashSet<Term>,
+}
+
+impl World {
+    pub fn new(base: Arc<Base>) -> World {
+        World {
+            base,
+            added: IndexSet::new(),
+            removed: HashSet::new(),
+        }
+    }
+
+    pub fn holds(&self, fact: &Term) -> bool {
+        self.added.contains(fact)
+            || (self.base.facts.contains(fact) && !self.removed.contains(fact))
+    }
+
+    /// Makes `fact` true; returns whether it was false before.
+    pub fn assert(&mut self, fact: Term) -> bool {
+        if self.holds(&fact) {
+            return false;
+        }
+        if !self.removed.remove(&fact) {
+            self.added.insert(fact);
+        }
+        true
+    }
+
+    /// Makes `fact` false; returns whether it was true before.
+    pub fn retract(&mut self, fact: &Term) -> bool {
+        if self.added.shift_remove(fact) {
+            return true;
+        }
+        if self.base.facts.contains(fact) {
+            return self.removed.insert(fact.clone());
+        }
+        false
+    }
+
+    /// Facts that may match `pattern`: those sharing its functor and arity, base first (scene
+    /// order), then the overlay (order made true). A variable pattern yields every fact.
+    fn candidates<'a>(&'a self, pattern: &Term) -> Box<dyn Iterator<Item = &'a Term> + 'a> {
+        let live = move |fact: &&Term| !self.removed.contains(*fact);
+        match key_of(pattern) {
+            Some(key) => {
+                let base = self
+                    .base
+                    .index
+                    .get(&key)
+                    .map(|v| v.as_slice())
+                    .unwrap_or(&[]);
+                let name = key.0.clone();
+                let arity = key.1;
+                Box::new(
+                    base.iter().filter(live).chain(
+                        self.added
+                            .iter()
+                            .filter(move |f| f.name() == Some(&name) && f.arity() == arity),
+                    ),
+                )
+            }
+            None => Box::new(
+                self.base
+                    .index
+                    .values()
+                    .flatten()
+                    .filter(live)
+                    .chain(self.added.iter()),
+            ),
+        }
+    }
+
+    /// Calls `found` with every extension of `subst` under which all `literals` hold, in a
+    /// deterministic order, until `found` returns `false`. Returns `false` if stopped early.
+    pub fn solve(
+        &self,
+        literals: &[Term],
+        subst: &Subst,
+        found: &mut dyn FnMut(&Subst) -> bool,
+    ) -> bool {
+        let Some((first, rest)) = literals.split_first() else {
+            return found(subst);
+        };
+        let goal = first.substitute(subst);
+        if goal.is_ground() {
+            return !self.holds(&goal) || self.solve(rest, subst, found);
+        }
+        for fact in self.candidates(&goal) {
+            let mut extended = subst.clone();
+            if extended.unify(&goal, fact) && !self.solve(rest, &extended, found) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Whether some extension of `subst` makes every literal hold.
+    pub fn satisfiable(&self, literals: &[Term], subst: &Subst) -> bool {
+        let mut any = false;
+        self.solve(literals, subst, &mut |_| {
+            any = true;
+            false
+        });
+        any
+    }
+
+    /// Facts this reading has made true that the scene did not state, in the order made true.
+    pub fn added(&self) -> impl Iterator<Item = &Term> {
+        self.added.iter()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(s: &str) -> Term {
+        Term::parse(s).unwrap()
+    }
+
+    #[test]
+    fn overlay_changes_stay_private_to_one_copy() {
+        let base = Arc::new(Base::new([t("on(a,table)"), t("red(a)")]));
+        let mut one = World::new(base.clone());
+        let two = World::new(base);
+        assert!(one.retract(&t("on(a,table)")));
+        assert!(one.assert(t("holding(self,a)")));
+        assert!(!one.holds(&t("on(a,table)")));
+        assert!(one.holds(&t("holding(self,a)")));
+        assert!(two.holds(&t("on(a,table)")));
+        assert!(!two.holds(&t("holding(self,a)")));
+        // Restoring a base fact removes it from `removed` rather than duplicating it.
+        assert!(one.assert(t("on(a,table)")));
+        assert!(one.holds(&t("on(a,table)")));
+        assert_eq!(one.added().count(), 1);
+    }
+
+    #[test]
+    fn solve_joins_literals_in_order() {
+        let base = Arc::new(Base::new([
+            t("vase(o3)"),
+            t("vase(o4)"),
+            t("fragile(o3)"),
+            t("on(o4,shelf)"),
+        ]));
+        let mut world = World::new(base);
+        world.assert(t("holding(self,o3)"));
+        let mut found = Vec::new();
+        world.solve(&[t("vase(X)"), t("fragile(X)")], &Subst::new(), &mut |s| {
+            found.push(t("X").substitute(s).to_string());
+            true
+        });
+        assert_eq!(found, vec!["o3"]);
+        assert!(world.satisfiable(&[t("holding(self,Y)"), t("vase(Y)")], &Subst::new()));
+        assert!(!world.satisfiable(&[t("holding(self,Y)"), t("on(Y,Z)")], &Subst::new()));
+    }
+}

@@ -1,0 +1,10 @@
+//! Scruple: simulate every reading of an ambiguous directive against the robot's norms and
+//! abilities, then ask, assume or explain without implying it would do something wrong.
+
+pub mod api;
+pub mod app;
+pub mod core;
+pub mod engine;
+pub mod error;
+pub mod storage;
+pub mod transport;

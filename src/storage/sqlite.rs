@@ -1,0 +1,194 @@
+//! SQLite norm store: WAL mode, migrations embedded and applied at open.
+//!
+//! Must not: write outside a transaction, or let a row it cannot parse pass as a norm (a corrupt
+//! row is a store error, so clarify fails closed).
+
+use std::str::FromStr;
+use std::time::Duration;
+
+use async_trait::async_trait;
+use sqlx::sqlite::{
+    SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteRow,
+    SqliteSynchronous,
+};
+use sqlx::{Row, Sqlite, Transaction};
+
+use super::{NormStore, StoreError};
+use crate::engine::norms::{Norm, NormKind, NormSpec};
+use crate::engine::term::Term;
+
+/// The columns a norm is read from, as a literal so that queries stay static strings.
+macro_rules! norm_columns {
+    () => {
+        "id, kind, term, when_json, context, severity, note"
+    };
+}
+
+#[derive(Clone, Debug)]
+pub struct SqliteStore {
+    pool: SqlitePool,
+}
+
+impl SqliteStore {
+    /// Opens (creating if missing) the database at `url` (`sqlite://scruple.db`, `sqlite::memory:`)
+    /// and applies the embedded migrations.
+    pub async fn open(url: &str) -> Result<SqliteStore, StoreError> {
+        let options = SqliteConnectOptions::from_str(url)
+            .map_err(|e| StoreError(format!("bad database URL `{url}`: {e}")))?
+            .create_if_missing(true)
+            .journal_mode(SqliteJournalMode::Wal)
+            .synchronous(SqliteSynchronous::Full)
+            .busy_timeout(Duration::from_secs(5))
+            .foreign_keys(true);
+        let pool = SqlitePoolOptions::new()
+            .max_connections(8)
+            .acquire_timeout(Duration::from_secs(5))
+            .connect_with(options)
+            .await?;
+        sqlx::migrate!("./migrations")
+            .run(&pool)
+            .await
+            .map_err(|e| StoreError(format!("migrations: {e}")))?;
+        Ok(SqliteStore { pool })
+    }
+
+    /// `BEGIN IMMEDIATE`: takes the write lock up front, so concurrent writers queue on the busy
+    /// timeout instead of failing to upgrade a read lock.
+    async fn write(&self) -> Result<Transaction<'static, Sqlite>, StoreError> {
+        Ok(self.pool.begin_with("BEGIN IMMEDIATE").await?)
+    }
+
+    pub fn pool(&self) -> &SqlitePool {
+        &self.pool
+    }
+}
+
+async fn bump(tx: &mut Transaction<'static, Sqlite>) -> Result<(), StoreError> {
+    sqlx::query("UPDATE norm_set SET version = version + 1 WHERE id = 1")
+        .execute(&mut **tx)
+        .await?;
+    Ok(())
+}
+
+fn corrupt(id: i64, what: &str) -> StoreError {
+    StoreError(format!("norm {id} is unreadable: {what}"))
+}
+
+fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
+    let id: i64 = row.try_get("id")?;
+    let kind: String = row.try_get("kind")?;
+    let kind = NormKind::parse(&kind).ok_or_else(|| corrupt(id, "unknown kind"))?;
+    let term: String = row.try_get("term")?;
+    let term = Term::parse(&term).map_err(|e| corrupt(id, &e.to_string()))?;
+    let when_json: String = row.try_get("when_json")?;
+    let when_texts: Vec<String> =
+        serde_json::from_str(&when_json).map_err(|e| corrupt(id, &e.to_string()))?;
+    let when = when_texts
+        .iter()
+        .map(|t| Term::parse(t))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| corrupt(id, &e.to_string()))?;
+    let severity: i64 = row.try_get("severity")?;
+    let severity = u8::try_from(severity)
+        .ok()
+        .filter(|s| (1..=5).contains(s))
+        .ok_or_else(|| corrupt(id, "severity out of range"))?;
+    Ok(Norm {
+        id,
+        spec: NormSpec {
+            kind,
+            term,
+            when,
+            context: row.try_get("context")?,
+            severity,
+            note: row.try_get("note")?,
+        },
+    })
+}
+
+#[async_trait]
+impl NormStore for SqliteStore {
+    async fn version(&self) -> Result<i64, StoreError> {
+        Ok(
+            sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
+                .fetch_one(&self.pool)
+                .await?,
+        )
+    }
+
+    async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError> {
+        // One read transaction: the version and the rows come from the same snapshot.
+        let mut tx = self.pool.begin().await?;
+        let version: i64 = sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
+            .fetch_one(&mut *tx)
+            .await?;
+        let rows = sqlx::query(concat!(
+            "SELECT ",
+            norm_columns!(),
+            " FROM norms ORDER BY id"
+        ))
+        .fetch_all(&mut *tx)
+        .await?;
+        tx.commit().await?;
+        let norms = rows.iter().map(norm_from_row).collect::<Result<_, _>>()?;
+        Ok((version, norms))
+    }
+
+    async fn create(&self, spec: &NormSpec) -> Result<Norm, StoreError> {
+        let when: Vec<String> = spec.when.iter().map(Term::to_string).collect();
+        let when_json = serde_json::to_string(&when).map_err(|e| StoreError(e.to_string()))?;
+        let mut tx = self.write().await?;
+        let id: i64 = sqlx::query_scalar(
+            "INSERT INTO norms (kind, term, when_json, context, severity, note) VALUES (?, ?, ?, ?, ?, ?) RETURNING id",
+        )
+        .bind(spec.kind.as_str())
+        .bind(spec.term.to_string())
+        .bind(when_json)
+        .bind(spec.context.as_deref())
+        .bind(i64::from(spec.severity))
+        .bind(spec.note.as_deref())
+        .fetch_one(&mut *tx)
+        .await?;
+        bump(&mut tx).await?;
+        tx.commit().await?;
+        Ok(Norm {
+            id,
+            spec: spec.clone(),
+        })
+    }
+
+    async fn list(&self) -> Result<Vec<Norm>, StoreError> {
+        Ok(self.load().await?.1)
+    }
+
+    async fn get(&self, id: i64) -> Result<Option<Norm>, StoreError> {
+        let row = sqlx::query(concat!(
+            "SELECT ",
+            norm_columns!(),
+            " FROM norms WHERE id = ?"
+        ))
+        .bind(id)
+        .fetch_optional(&self.pool)
+        .await?;
+        row.as_ref().map(norm_from_row).transpose()
+    }
+
+    async fn delete(&self, id: i64) -> Result<bool, StoreError> {
+        let mut tx = self.write().await?;
+        let deleted = sqlx::query("DELETE FROM norms WHERE id = ?")
+            .bind(id)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected()
+            > 0;
+        if deleted {
+            bump(&mut tx).await?;
+        }
+        tx.commit().await?;
+        Ok(deleted)
+    }
+
+    async fn ping(&self) -> Result<(), StoreError> {
+        self.version().await.map(|_| ())
+    }
+}

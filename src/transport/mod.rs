@@ -1,0 +1,3 @@
+//! Transports: thin adapters that convert wire formats, call `core`, and convert back.
+
+pub mod rest;
