@@ -10,8 +10,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::clarify::{
-    Candidate, Decision, Directive, Interpretation, Options, Reference, Request, SinglePermissible,
-    Strategy,
+    Candidate, Decision, Directive, Interpretation, Options, Reference, Request, SinglePermissible, Strategy,
 };
 use crate::engine::norms::{Norm, NormInput, NormKind};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
@@ -31,12 +30,19 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
     let result: Result<T, _> = serde_path_to_error::deserialize(&mut deserializer);
     if result.is_ok() {
         // Trailing text after the value is a syntax error, not a shape error.
-        deserializer.end().map_err(|e| Error::MalformedBody {
-            detail: e.to_string(),
-        })?;
+        deserializer
+            .end()
+            .map_err(|e| Error::MalformedBody { detail: e.to_string() })?;
     }
     result.map_err(|err| {
         let inner = err.inner();
+        // A shape error can be met before a syntax error further on: text that is not JSON at
+        // all is reported as such, whatever its first bytes looked like.
+        if let Err(syntax) = serde_json::from_slice::<serde::de::IgnoredAny>(bytes) {
+            return Error::MalformedBody {
+                detail: syntax.to_string(),
+            };
+        }
         if !inner.is_data() {
             return Error::MalformedBody {
                 detail: inner.to_string(),
@@ -58,27 +64,19 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
             }
         }
         let message = inner.to_string();
-        // serde reports a missing or unknown member at its parent; point at the member itself.
-        for prefix in ["missing field `", "unknown field `"] {
-            if let Some(rest) = message.strip_prefix(prefix)
-                && let Some(name) = rest.split('`').next()
-            {
-                field.push('/');
-                field.push_str(&pointer_segment(name));
-            }
+        // serde reports a missing member at its parent; point at the member itself.
+        if let Some(rest) = message.strip_prefix("missing field `")
+            && let Some(name) = rest.split('`').next()
+        {
+            field.push('/');
+            field.push_str(&pointer_segment(name));
         }
         let detail = match message.rfind(" at line ") {
             Some(cut) => message[..cut].to_owned(),
             None => message,
         };
-        Error::invalid(
-            if field.is_empty() {
-                "/".to_owned()
-            } else {
-                field
-            },
-            detail,
-        )
+        // An empty pointer is the whole document (RFC 6901).
+        Error::invalid(field, detail)
     })
 }
 
@@ -196,10 +194,7 @@ pub struct ReferenceBody {
 
 /// A candidate from an upstream resolver: an object id, or an id with a score.
 #[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(
-    untagged,
-    expecting = "an object id, or {\"id\": ID, \"score\": NUMBER}"
-)]
+#[serde(untagged, expecting = "an object id, or {\"id\": ID, \"score\": NUMBER}")]
 pub enum BindingBody {
     Id(String),
     Scored { id: String, score: f64 },
@@ -396,16 +391,10 @@ impl SceneBody {
                     }
                     Some(Shape::Cuboid { half_extents })
                 }
-                Some(ShapeBody::Cylinder {
-                    radius,
-                    half_height,
-                }) => {
+                Some(ShapeBody::Cylinder { radius, half_height }) => {
                     positive(&format!("{at}/shape/cylinder/radius"), radius)?;
                     positive(&format!("{at}/shape/cylinder/half_height"), half_height)?;
-                    Some(Shape::Cylinder {
-                        radius,
-                        half_height,
-                    })
+                    Some(Shape::Cylinder { radius, half_height })
                 }
             };
             let rotation = match o.rotation {
@@ -436,13 +425,9 @@ impl SceneBody {
         let mut facts = Vec::with_capacity(self.facts.len());
         for (k, text) in self.facts.iter().enumerate() {
             let field = format!("/scene/facts/{k}");
-            let fact = Term::parse(text)
-                .map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
+            let fact = Term::parse(text).map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
             if !fact.is_ground() || fact.is_var() {
-                return Err(Error::invalid(
-                    field,
-                    "a scene fact must be ground (no variables)",
-                ));
+                return Err(Error::invalid(field, "a scene fact must be ground (no variables)"));
             }
             facts.push(fact);
         }
@@ -513,9 +498,7 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
             match actor {
                 Term::Const(a) if &**a == "self" || &**a == agent => {}
                 _ => {
-                    return Err(format!(
-                        "did(A,...) must name the agent: `self` or `{agent}`"
-                    ));
+                    return Err(format!("did(A,...) must name the agent: `self` or `{agent}`"));
                 }
             }
             action.clone()
@@ -531,10 +514,7 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
 impl DirectiveBody {
     fn into_directive(self, scene: &Scene) -> Result<(Directive, Option<Sym>), Error> {
         match (self.action, self.form) {
-            (Some(_), Some(_)) => Err(Error::invalid(
-                "/directive",
-                "give either `action` or `form`, not both",
-            )),
+            (Some(_), Some(_)) => Err(Error::invalid("/directive", "give either `action` or `form`, not both")),
             (None, None) => Err(Error::invalid(
                 "/directive",
                 "needs `action` (with `arguments`) or `form` (with `bindings`)",
@@ -563,10 +543,10 @@ impl DirectiveBody {
                         "`arguments` go with `action`, not with `form`",
                     ));
                 }
-                let form = Term::parse(&text)
-                    .map_err(|e| Error::invalid("/directive/form", format!("not a term: {e}")))?;
-                let (speaker, action) = unwrap_form(&form, &scene.agent.id)
-                    .map_err(|m| Error::invalid("/directive/form", m))?;
+                let form =
+                    Term::parse(&text).map_err(|e| Error::invalid("/directive/form", format!("not a term: {e}")))?;
+                let (speaker, action) =
+                    unwrap_form(&form, &scene.agent.id).map_err(|m| Error::invalid("/directive/form", m))?;
                 let variables = action.variables();
                 let given = self.bindings.unwrap_or_default();
                 for name in given.keys() {
@@ -601,18 +581,12 @@ impl DirectiveBody {
                             }
                         };
                         if scene.object(id).is_none() {
-                            return Err(Error::invalid(
-                                id_at,
-                                format!("no object `{id}` in the scene"),
-                            ));
+                            return Err(Error::invalid(id_at, format!("no object `{id}` in the scene")));
                         }
                         if candidates.iter().any(|c| &c.id == id) {
                             return Err(Error::invalid(id_at, format!("`{id}` is listed twice")));
                         }
-                        candidates.push(Candidate {
-                            id: id.clone(),
-                            score,
-                        });
+                        candidates.push(Candidate { id: id.clone(), score });
                     }
                     bindings.push((variable, candidates));
                 }
@@ -728,11 +702,7 @@ impl DecisionDto {
             utterance: decision.utterance.clone(),
             speech_act: decision.speech_act.to_string(),
             goal: decision.goal.as_ref().map(Term::to_string),
-            interpretations: decision
-                .interpretations
-                .iter()
-                .map(InterpretationDto::from)
-                .collect(),
+            interpretations: decision.interpretations.iter().map(InterpretationDto::from).collect(),
             norm_version: decision.norm_version,
             text,
         }

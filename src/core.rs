@@ -52,19 +52,12 @@ impl Core {
     /// Decides what to say about a directive. Fails closed: without readable norms, no decision.
     pub async fn clarify(&self, input: &ClarifyInput) -> Result<Decision, Error> {
         let norms = self.norms().await?;
-        Ok(clarify(
-            &input.request,
-            &input.scene,
-            &norms,
-            &self.library,
-        )?)
+        Ok(clarify(&input.request, &input.scene, &norms, &self.library)?)
     }
 
     /// Validates and stores a norm; nothing is written unless every field is valid.
     pub async fn create_norm(&self, input: NormInput) -> Result<Norm, Error> {
-        let spec = input
-            .validate()
-            .map_err(|e| Error::invalid(e.field, e.message))?;
+        let spec = input.validate().map_err(|e| Error::invalid(e.field, e.message))?;
         Ok(self.store.create(&spec).await?)
     }
 
@@ -86,10 +79,7 @@ impl Core {
 
     /// Ready when the store answers.
     pub async fn ready(&self) -> Result<(), Error> {
-        self.store
-            .ping()
-            .await
-            .map_err(|e| Error::NormsUnavailable(e.0))
+        self.store.ping().await.map_err(|e| Error::NormsUnavailable(e.0))
     }
 }
 

@@ -28,9 +28,7 @@ pub enum Error {
     #[error("the body is larger than the limit of {limit} bytes")]
     PayloadTooLarge { limit: usize },
     /// A write without `Authorization: Bearer TOKEN` while an admin token is set.
-    #[error(
-        "this request changes norms and needs the admin token: send `Authorization: Bearer TOKEN`"
-    )]
+    #[error("this request changes norms and needs the admin token: send `Authorization: Bearer TOKEN`")]
     Unauthenticated,
     /// A write with a token that is not the admin token.
     #[error("the token sent is not the admin token")]
@@ -53,16 +51,8 @@ impl Error {
     /// The single place where a failure becomes an HTTP status and a problem type (slug, title).
     pub fn codes(&self) -> (StatusCode, &'static str, &'static str) {
         match self {
-            Error::MalformedBody { .. } => (
-                StatusCode::BAD_REQUEST,
-                "malformed-body",
-                "Malformed request body",
-            ),
-            Error::Invalid { .. } => (
-                StatusCode::UNPROCESSABLE_ENTITY,
-                "invalid-field",
-                "Invalid field",
-            ),
+            Error::MalformedBody { .. } => (StatusCode::BAD_REQUEST, "malformed-body", "Malformed request body"),
+            Error::Invalid { .. } => (StatusCode::UNPROCESSABLE_ENTITY, "invalid-field", "Invalid field"),
             Error::UnsupportedMediaType { .. } => (
                 StatusCode::UNSUPPORTED_MEDIA_TYPE,
                 "unsupported-media-type",
@@ -74,27 +64,15 @@ impl Error {
                 "method-not-allowed",
                 "Method not allowed",
             ),
-            Error::PayloadTooLarge { .. } => (
-                StatusCode::PAYLOAD_TOO_LARGE,
-                "payload-too-large",
-                "Payload too large",
-            ),
-            Error::Unauthenticated => (
-                StatusCode::UNAUTHORIZED,
-                "unauthenticated",
-                "Unauthenticated",
-            ),
+            Error::PayloadTooLarge { .. } => (StatusCode::PAYLOAD_TOO_LARGE, "payload-too-large", "Payload too large"),
+            Error::Unauthenticated => (StatusCode::UNAUTHORIZED, "unauthenticated", "Unauthenticated"),
             Error::Forbidden => (StatusCode::FORBIDDEN, "forbidden", "Forbidden"),
             Error::NormsUnavailable(_) => (
                 StatusCode::SERVICE_UNAVAILABLE,
                 "norms-unavailable",
                 "Norms unavailable",
             ),
-            Error::Internal(_) => (
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "internal",
-                "Internal error",
-            ),
+            Error::Internal(_) => (StatusCode::INTERNAL_SERVER_ERROR, "internal", "Internal error"),
         }
     }
 

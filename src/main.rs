@@ -26,11 +26,7 @@ enum Command {
         #[arg(long, env = "SCRUPLE_LISTEN", default_value = "127.0.0.1:8080")]
         listen: String,
         /// Norm store; a SQLite file is created if missing and migrated at start.
-        #[arg(
-            long,
-            env = "SCRUPLE_DATABASE_URL",
-            default_value = "sqlite://scruple.db"
-        )]
+        #[arg(long, env = "SCRUPLE_DATABASE_URL", default_value = "sqlite://scruple.db")]
         database_url: String,
         /// When set, requests that change norms need `Authorization: Bearer TOKEN`.
         #[arg(long, env = "SCRUPLE_ADMIN_TOKEN", hide_env_values = true)]
@@ -68,9 +64,7 @@ async fn shutdown_signal() {
 #[tokio::main]
 async fn main() -> ExitCode {
     tracing_subscriber::fmt()
-        .with_env_filter(
-            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
-        )
+        .with_env_filter(EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")))
         .with_writer(std::io::stderr)
         .init();
     let Cli { command } = Cli::parse();

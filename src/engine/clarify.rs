@@ -63,9 +63,7 @@ impl Reference {
                 properties,
             } => {
                 kind.as_ref().is_none_or(|k| k == &object.kind)
-                    && attributes
-                        .iter()
-                        .all(|(k, v)| object.attributes.get(k) == Some(v))
+                    && attributes.iter().all(|(k, v)| object.attributes.get(k) == Some(v))
                     && properties.iter().all(|p| object.properties.contains(p))
             }
         }
@@ -83,11 +81,7 @@ impl Reference {
                 let mut words = vec!["the".to_owned()];
                 words.extend(properties.iter().map(|p| spoken(p)));
                 words.extend(attributes.values().map(|v| spoken(v)));
-                words.push(
-                    kind.as_deref()
-                        .map(spoken)
-                        .unwrap_or_else(|| "thing".to_owned()),
-                );
+                words.push(kind.as_deref().map(spoken).unwrap_or_else(|| "thing".to_owned()));
                 words.join(" ")
             }
         }
@@ -104,10 +98,7 @@ pub struct Candidate {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Directive {
     /// A verb and one reference per argument; readings are every combination of candidates.
-    Action {
-        verb: String,
-        arguments: Vec<Reference>,
-    },
+    Action { verb: String, arguments: Vec<Reference> },
     /// An action with variables (the `X` of `did(self,get(X))`) and each variable's candidates,
     /// in the order the variables first appear.
     Form {
@@ -246,54 +237,53 @@ enum Readings {
 }
 
 fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineError> {
-    let (verb, slots, template): (Sym, Vec<Vec<(Term, f64)>>, Option<(&Term, Vec<Sym>)>) =
-        match directive {
-            Directive::Action { verb, arguments } => {
-                let mut slots = Vec::new();
-                let mut missing = Vec::new();
-                for reference in arguments {
-                    let found: Vec<(Term, f64)> = scene
-                        .objects
-                        .iter()
-                        .filter(|o| reference.matches(o))
-                        .map(|o| (Term::constant(&o.id), 1.0))
-                        .collect();
-                    if found.is_empty() {
-                        missing.push(reference.words());
-                    }
-                    slots.push(found);
+    let (verb, slots, template): (Sym, Vec<Vec<(Term, f64)>>, Option<(&Term, Vec<Sym>)>) = match directive {
+        Directive::Action { verb, arguments } => {
+            let mut slots = Vec::new();
+            let mut missing = Vec::new();
+            for reference in arguments {
+                let found: Vec<(Term, f64)> = scene
+                    .objects
+                    .iter()
+                    .filter(|o| reference.matches(o))
+                    .map(|o| (Term::constant(&o.id), 1.0))
+                    .collect();
+                if found.is_empty() {
+                    missing.push(reference.words());
                 }
-                if !missing.is_empty() {
-                    return Ok(Readings::Unresolved(missing));
-                }
-                (Sym::from(verb.as_str()), slots, None)
+                slots.push(found);
             }
-            Directive::Form { action, bindings } => {
-                let variables = action.variables();
-                let mut slots = Vec::new();
-                let mut missing = Vec::new();
-                for variable in &variables {
-                    let found: Vec<(Term, f64)> = bindings
-                        .iter()
-                        .find(|(v, _)| v == variable)
-                        .map(|(_, cs)| {
-                            cs.iter()
-                                .filter(|c| scene.object(&c.id).is_some())
-                                .map(|c| (Term::constant(&c.id), c.score))
-                                .collect()
-                        })
-                        .unwrap_or_default();
-                    if found.is_empty() {
-                        missing.push(variable.to_string());
-                    }
-                    slots.push(found);
-                }
-                if !missing.is_empty() {
-                    return Ok(Readings::Unresolved(missing));
-                }
-                (Sym::from(""), slots, Some((action, variables)))
+            if !missing.is_empty() {
+                return Ok(Readings::Unresolved(missing));
             }
-        };
+            (Sym::from(verb.as_str()), slots, None)
+        }
+        Directive::Form { action, bindings } => {
+            let variables = action.variables();
+            let mut slots = Vec::new();
+            let mut missing = Vec::new();
+            for variable in &variables {
+                let found: Vec<(Term, f64)> = bindings
+                    .iter()
+                    .find(|(v, _)| v == variable)
+                    .map(|(_, cs)| {
+                        cs.iter()
+                            .filter(|c| scene.object(&c.id).is_some())
+                            .map(|c| (Term::constant(&c.id), c.score))
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                if found.is_empty() {
+                    missing.push(variable.to_string());
+                }
+                slots.push(found);
+            }
+            if !missing.is_empty() {
+                return Ok(Readings::Unresolved(missing));
+            }
+            (Sym::from(""), slots, Some((action, variables)))
+        }
+    };
     let count = slots
         .iter()
         .try_fold(1u128, |acc, s| acc.checked_mul(s.len() as u128))
@@ -310,10 +300,7 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
         let picked: Vec<&(Term, f64)> = choice.iter().zip(&slots).map(|(&i, s)| &s[i]).collect();
         let score = picked.iter().map(|(_, s)| s).product::<f64>();
         let action = match &template {
-            None => Term::Compound(
-                verb.clone(),
-                picked.iter().map(|(t, _)| t.clone()).collect(),
-            ),
+            None => Term::Compound(verb.clone(), picked.iter().map(|(t, _)| t.clone()).collect()),
             Some((form, variables)) => {
                 let mut subst = super::term::Subst::new();
                 for (variable, (value, _)) in variables.iter().zip(&picked) {
@@ -371,10 +358,9 @@ fn reason_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
         Cause::ForbiddenAction { name, .. } => format!("{name} is forbidden action"),
         Cause::ForbiddenState { .. } => "it requires a forbidden state".to_owned(),
         Cause::UnknownAction { verb } => format!("I do not know how to {}", spoken(verb)),
-        Cause::Unreachable { object } => format!(
-            "{} is out of reach",
-            describer.argument(&Term::Const(object.clone()))
-        ),
+        Cause::Unreachable { object } => {
+            format!("{} is out of reach", describer.argument(&Term::Const(object.clone())))
+        }
         Cause::UnknownObject { object } => format!("I do not see {}", describer.argument(object)),
         Cause::Precondition { fact } => format!("{fact} does not hold"),
         Cause::PlanTooDeep { .. } => "its plan is too deep to simulate".to_owned(),
@@ -408,12 +394,7 @@ fn act(name: &str, what: Term) -> Term {
     Term::compound(name, vec![Term::constant("self"), what])
 }
 
-fn decision(
-    kind: DecisionKind,
-    utterance: String,
-    speech_act: Term,
-    goal: Option<Term>,
-) -> Decision {
+fn decision(kind: DecisionKind, utterance: String, speech_act: Term, goal: Option<Term>) -> Decision {
     Decision {
         kind,
         utterance,
@@ -431,21 +412,11 @@ fn ask(speaker: &Term, offered: &[&Interpretation]) -> Decision {
         readings.join(" or that you want me to ")
     );
     let or = Term::compound("or", offered.iter().map(|i| i.action.clone()).collect());
-    decision(
-        DecisionKind::Ask,
-        utterance,
-        act("want_know", mean(speaker, or)),
-        None,
-    )
+    decision(DecisionKind::Ask, utterance, act("want_know", mean(speaker, or)), None)
 }
 
 /// Algorithm 1 (two or more readings) and the single-reading cases.
-fn decide(
-    speaker: &Term,
-    options: Options,
-    all: &[Interpretation],
-    describer: &mut Describer<'_>,
-) -> Decision {
+fn decide(speaker: &Term, options: Options, all: &[Interpretation], describer: &mut Describer<'_>) -> Decision {
     if let [only] = all {
         return if only.acceptable() {
             decision(
@@ -465,8 +436,7 @@ fn decide(
     let good: Vec<&Interpretation> = all.iter().filter(|i| i.acceptable()).collect();
     match good.as_slice() {
         [] => {
-            let (sentences, terms): (Vec<String>, Vec<Term>) =
-                all.iter().map(|i| cannot(i, describer)).unzip();
+            let (sentences, terms): (Vec<String>, Vec<Term>) = all.iter().map(|i| cannot(i, describer)).unzip();
             let clauses: Vec<String> = sentences
                 .iter()
                 .map(|s| s.trim_start_matches("I ").to_owned())

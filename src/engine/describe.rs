@@ -43,12 +43,7 @@ pub fn describe_object(scene: &Scene, object: &Object) -> String {
         .properties
         .iter()
         .map(|p| Feature::Property(p))
-        .chain(
-            object
-                .attributes
-                .iter()
-                .map(|(k, v)| Feature::Attribute(k, v)),
-        );
+        .chain(object.attributes.iter().map(|(k, v)| Feature::Attribute(k, v)));
     let mut words = vec!["the".to_owned()];
     for feature in features {
         if distractors.is_empty() {
@@ -113,10 +108,7 @@ impl<'a> Describer<'a> {
 
     /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
     pub fn reading(&mut self, action: &Term) -> String {
-        let verb = action
-            .name()
-            .map(|n| spoken(n))
-            .unwrap_or_else(|| action.to_string());
+        let verb = action.name().map(|n| spoken(n)).unwrap_or_else(|| action.to_string());
         let args = self.arguments(action);
         if args.is_empty() {
             verb

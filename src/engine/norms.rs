@@ -108,9 +108,9 @@ fn parse_literal(field: &str, text: &str, what: &str) -> Result<Term, NormError>
 impl NormInput {
     /// Validates every field; the first fault found is reported, nothing is half-accepted.
     pub fn validate(self) -> Result<NormSpec, NormError> {
-        let kind_text = self.kind.ok_or_else(|| {
-            norm_error("/kind", "missing; one of forbidden_action, forbidden_state")
-        })?;
+        let kind_text = self
+            .kind
+            .ok_or_else(|| norm_error("/kind", "missing; one of forbidden_action, forbidden_state"))?;
         let kind = NormKind::parse(&kind_text).ok_or_else(|| {
             norm_error(
                 "/kind",
@@ -125,9 +125,9 @@ impl NormInput {
                         "a forbidden_action norm has `action`, not `state`",
                     ));
                 }
-                let text = self.action.ok_or_else(|| {
-                    norm_error("/action", "missing; e.g. \"destroy\" or \"get(X)\"")
-                })?;
+                let text = self
+                    .action
+                    .ok_or_else(|| norm_error("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
                 parse_literal("/action", &text, "an action")?
             }
             NormKind::ForbiddenState => {
@@ -145,10 +145,7 @@ impl NormInput {
         };
         let when_texts = self.when.unwrap_or_default();
         if when_texts.len() > MAX_WHEN {
-            return Err(norm_error(
-                "/when",
-                format!("at most {MAX_WHEN} conditions"),
-            ));
+            return Err(norm_error("/when", format!("at most {MAX_WHEN} conditions")));
         }
         let when = when_texts
             .iter()
@@ -236,11 +233,7 @@ impl CompiledNorms {
             match norm.spec.kind {
                 NormKind::ForbiddenAction => {
                     if let Some(name) = norm.spec.term.name() {
-                        compiled
-                            .actions_by_name
-                            .entry(name.clone())
-                            .or_default()
-                            .push(index);
+                        compiled.actions_by_name.entry(name.clone()).or_default().push(index);
                     }
                 }
                 NormKind::ForbiddenState => {
@@ -272,12 +265,7 @@ impl CompiledNorms {
 
     /// Forbidden-action norms in force in `context` that `action` violates in `world` (the world
     /// before the action). A norm naming only an action (`destroy`) matches it at any arity.
-    pub fn check_action(
-        &self,
-        action: &Term,
-        world: &World,
-        context: &str,
-    ) -> Vec<ActionViolation> {
+    pub fn check_action(&self, action: &Term, world: &World, context: &str) -> Vec<ActionViolation> {
         let Some(name) = action.name() else {
             return Vec::new();
         };
@@ -310,12 +298,7 @@ impl CompiledNorms {
     /// Forbidden states that `world` is in because of the facts in `new_facts` (just made true):
     /// each violation involves at least one of them, so states the world was already in are not
     /// reported again. Deterministic: by new fact, then norm id, then solution order.
-    pub fn check_entered(
-        &self,
-        new_facts: &[Term],
-        world: &World,
-        context: &str,
-    ) -> Vec<StateViolation> {
+    pub fn check_entered(&self, new_facts: &[Term], world: &World, context: &str) -> Vec<StateViolation> {
         let mut out: Vec<StateViolation> = Vec::new();
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
@@ -333,10 +316,7 @@ impl CompiledNorms {
                 }
                 world.solve(&rule.literals, &seed, &mut |solution| {
                     let state = rule.norm.spec.term.substitute(solution);
-                    if !out
-                        .iter()
-                        .any(|v| v.norm_id == rule.norm.id && v.fact == state)
-                    {
+                    if !out.iter().any(|v| v.norm_id == rule.norm.id && v.fact == state) {
                         out.push(StateViolation {
                             norm_id: rule.norm.id,
                             severity: rule.norm.spec.severity,

@@ -65,11 +65,7 @@ pub struct Scene {
 impl Scene {
     /// Builds the scene; the caller has already checked every field (ids unique, geometry finite).
     pub fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
-        let by_id = objects
-            .iter()
-            .enumerate()
-            .map(|(i, o)| (o.id.clone(), i))
-            .collect();
+        let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
         let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
         Scene {
             agent,
@@ -110,20 +106,15 @@ impl Scene {
     /// object's shape (zero inside it) is at most `reach`. `None` when no such object exists.
     pub fn within_reach(&self, id: &str) -> Option<bool> {
         let index = self.index_of(id)?;
-        Some(*self.reach_cache[index].get_or_init(|| {
-            distance_to_shape(&self.objects[index], &self.agent.position) <= self.agent.reach
-        }))
+        Some(
+            *self.reach_cache[index]
+                .get_or_init(|| distance_to_shape(&self.objects[index], &self.agent.position) <= self.agent.reach),
+        )
     }
 
     /// Objects of the given type other than `id`, in scene order.
-    pub fn same_kind<'a>(
-        &'a self,
-        kind: &'a str,
-        id: &'a str,
-    ) -> impl Iterator<Item = &'a Object> + 'a {
-        self.objects
-            .iter()
-            .filter(move |o| o.kind == kind && o.id != id)
+    pub fn same_kind<'a>(&'a self, kind: &'a str, id: &'a str) -> impl Iterator<Item = &'a Object> + 'a {
+        self.objects.iter().filter(move |o| o.kind == kind && o.id != id)
     }
 }
 
@@ -136,29 +127,22 @@ pub fn distance_to_shape(object: &Object, point: &[f64; 3]) -> f64 {
         object.position[2] as Real,
     );
     let rotation = match object.rotation {
-        Some([x, y, z, w]) => UnitQuaternion::from_quaternion(Quaternion::new(
-            w as Real, x as Real, y as Real, z as Real,
-        )),
+        Some([x, y, z, w]) => {
+            UnitQuaternion::from_quaternion(Quaternion::new(w as Real, x as Real, y as Real, z as Real))
+        }
         None => UnitQuaternion::identity(),
     };
     let pose = Isometry::from_parts(Translation::from(centre), rotation);
     let distance = match &object.shape {
         None => return euclid(&object.position, point),
-        Some(Shape::Ball { radius }) => {
-            Ball::new(*radius as Real).distance_to_point(&pose, &p, true)
-        }
+        Some(Shape::Ball { radius }) => Ball::new(*radius as Real).distance_to_point(&pose, &p, true),
         Some(Shape::Cuboid { half_extents: h }) => {
-            Cuboid::new(Vector::new(h[0] as Real, h[1] as Real, h[2] as Real))
-                .distance_to_point(&pose, &p, true)
+            Cuboid::new(Vector::new(h[0] as Real, h[1] as Real, h[2] as Real)).distance_to_point(&pose, &p, true)
         }
-        Some(Shape::Cylinder {
-            radius,
-            half_height,
-        }) => {
+        Some(Shape::Cylinder { radius, half_height }) => {
             // parry's cylinder stands along its local y; ours along the object's z. A quarter
             // turn about x carries local y onto z before the object's own rotation applies.
-            let y_to_z =
-                UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::FRAC_PI_2);
+            let y_to_z = UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::FRAC_PI_2);
             let pose = pose * Isometry::from_parts(Translation::identity(), y_to_z);
             Cylinder::new(*half_height as Real, *radius as Real).distance_to_point(&pose, &p, true)
         }
@@ -181,9 +165,7 @@ pub fn spoken(name: &str) -> String {
                 out.push(' ');
             }
         } else if c.is_uppercase() {
-            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit())
-                && !out.ends_with(' ')
-            {
+            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit()) && !out.ends_with(' ') {
                 out.push(' ');
             }
             out.extend(c.to_lowercase());
@@ -221,10 +203,7 @@ mod tests {
         let origin = [0.0, 0.0, 0.0];
         let cases: Vec<(Object, f64)> = vec![
             (object([1.0, 0.0, 0.0], None, None), 1.0),
-            (
-                object([1.0, 0.0, 0.0], Some(Shape::Ball { radius: 0.25 }), None),
-                0.75,
-            ),
+            (object([1.0, 0.0, 0.0], Some(Shape::Ball { radius: 0.25 }), None), 0.75),
             (
                 object(
                     [1.0, 0.0, 0.0],
@@ -277,10 +256,7 @@ mod tests {
                 0.8,
             ),
             // Inside the shape: zero.
-            (
-                object([0.0, 0.0, 0.0], Some(Shape::Ball { radius: 1.0 }), None),
-                0.0,
-            ),
+            (object([0.0, 0.0, 0.0], Some(Shape::Ball { radius: 1.0 }), None), 0.0),
         ];
         for (object, expected) in cases {
             let d = distance_to_shape(&object, &origin);

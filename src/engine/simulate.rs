@@ -70,9 +70,7 @@ impl Reason {
             Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.to_string(),
             Cause::UnknownAction { verb } => verb.to_string(),
             Cause::Unreachable { object } => object.to_string(),
-            Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => {
-                object.to_string()
-            }
+            Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
         }
     }
 
@@ -91,10 +89,7 @@ impl Reason {
     }
 
     pub fn is_norm_violation(&self) -> bool {
-        matches!(
-            self.cause,
-            Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
-        )
+        matches!(self.cause, Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. })
     }
 }
 
@@ -144,11 +139,7 @@ impl Run<'_> {
     }
 
     fn check_action(&mut self, action: &Term) {
-        for v in self
-            .env
-            .norms
-            .check_action(action, &self.world, self.env.context)
-        {
+        for v in self.env.norms.check_action(action, &self.world, self.env.context) {
             self.push(Reason {
                 cause: Cause::ForbiddenAction {
                     step: action.clone(),
@@ -161,11 +152,7 @@ impl Run<'_> {
     }
 
     fn check_entered(&mut self, world: &World, new_facts: &[Term]) {
-        for v in self
-            .env
-            .norms
-            .check_entered(new_facts, world, self.env.context)
-        {
+        for v in self.env.norms.check_entered(new_facts, world, self.env.context) {
             self.push(Reason {
                 cause: Cause::ForbiddenState { fact: v.fact },
                 norm_id: Some(v.norm_id),
@@ -178,9 +165,7 @@ impl Run<'_> {
     /// forbidden actions (the directive itself, in check (1)).
     fn run(&mut self, action: &Term, checked: bool, depth: usize) {
         if depth > MAX_PLAN_DEPTH {
-            self.push(Reason::infeasible(Cause::PlanTooDeep {
-                step: action.clone(),
-            }));
+            self.push(Reason::infeasible(Cause::PlanTooDeep { step: action.clone() }));
             return;
         }
         if !checked {
@@ -189,10 +174,7 @@ impl Run<'_> {
         let env = self.env;
         let Some(def) = env.library.lookup(action) else {
             self.push(Reason::infeasible(Cause::UnknownAction {
-                verb: action
-                    .name()
-                    .cloned()
-                    .unwrap_or_else(|| Sym::from(action.to_string())),
+                verb: action.name().cloned().unwrap_or_else(|| Sym::from(action.to_string())),
             }));
             return;
         };
@@ -216,12 +198,7 @@ impl Run<'_> {
             self.world.retract(&fact.substitute(bindings));
         }
         let mut new_facts = Vec::new();
-        for fact in def
-            .adds
-            .iter()
-            .map(|f| f.substitute(bindings))
-            .chain([did(action)])
-        {
+        for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([did(action)]) {
             if self.world.assert(fact.clone()) {
                 new_facts.push(fact);
             }
@@ -241,9 +218,7 @@ impl Run<'_> {
                 Some(false) => self.push(Reason::infeasible(Cause::Unreachable {
                     object: target.name().cloned().unwrap_or_default(),
                 })),
-                None => self.push(Reason::infeasible(Cause::UnknownObject {
-                    object: target.clone(),
-                })),
+                None => self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() })),
             }
         }
         for precondition in &def.preconditions {

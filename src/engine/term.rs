@@ -120,10 +120,9 @@ impl Term {
                 }
             }
             Term::Const(_) => self.clone(),
-            Term::Compound(name, args) => Term::Compound(
-                name.clone(),
-                args.iter().map(|a| a.substitute(subst)).collect(),
-            ),
+            Term::Compound(name, args) => {
+                Term::Compound(name.clone(), args.iter().map(|a| a.substitute(subst)).collect())
+            }
         }
     }
 }
@@ -171,9 +170,7 @@ fn is_name_char(c: char) -> bool {
 pub fn is_constant_name(text: &str) -> bool {
     let mut chars = text.chars();
     match chars.next() {
-        Some(first) if first.is_ascii_lowercase() || first.is_ascii_digit() || first == '_' => {
-            chars.all(is_name_char)
-        }
+        Some(first) if first.is_ascii_lowercase() || first.is_ascii_digit() || first == '_' => chars.all(is_name_char),
         _ => false,
     }
 }
@@ -249,15 +246,10 @@ impl Parser<'_> {
             if self.peek_char() == Some('(') {
                 return Err(self.error(format!(
                     "`{}` is a variable and cannot take arguments (functor names start lower-case)",
-                    &self.text
-                        [start.saturating_sub(usize::from(is_question_var))..start + name.len()]
+                    &self.text[start.saturating_sub(usize::from(is_question_var))..start + name.len()]
                 )));
             }
-            let full = if is_question_var {
-                format!("?{name}")
-            } else {
-                name
-            };
+            let full = if is_question_var { format!("?{name}") } else { name };
             return Ok(Term::Var(Sym::from(full)));
         }
         if self.peek_char() != Some('(') {
@@ -297,10 +289,7 @@ impl Subst {
     }
 
     pub fn get(&self, var: &str) -> Option<&Term> {
-        self.bindings
-            .iter()
-            .find(|(v, _)| &**v == var)
-            .map(|(_, t)| t)
+        self.bindings.iter().find(|(v, _)| &**v == var).map(|(_, t)| t)
     }
 
     pub fn bind(&mut self, var: Sym, value: Term) {
@@ -342,9 +331,7 @@ impl Subst {
             }
             (Term::Const(x), Term::Const(y)) => x == y,
             (Term::Compound(f, xs), Term::Compound(g, ys)) => {
-                f == g
-                    && xs.len() == ys.len()
-                    && xs.iter().zip(ys.iter()).all(|(x, y)| self.unify(x, y))
+                f == g && xs.len() == ys.len() && xs.iter().zip(ys.iter()).all(|(x, y)| self.unify(x, y))
             }
             _ => false,
         }
@@ -416,11 +403,7 @@ mod tests {
     fn deep_nesting_is_refused_not_a_stack_overflow() {
         let deep = format!("{}a{}", "f(".repeat(10_000), ")".repeat(10_000));
         assert!(Term::parse(&deep).is_err());
-        let ok = format!(
-            "{}a{}",
-            "f(".repeat(MAX_DEPTH - 1),
-            ")".repeat(MAX_DEPTH - 1)
-        );
+        let ok = format!("{}a{}", "f(".repeat(MAX_DEPTH - 1), ")".repeat(MAX_DEPTH - 1));
         assert!(Term::parse(&ok).is_ok());
     }
 

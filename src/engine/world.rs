@@ -70,8 +70,7 @@ impl World {
     }
 
     pub fn holds(&self, fact: &Term) -> bool {
-        self.added.contains(fact)
-            || (self.base.facts.contains(fact) && !self.removed.contains(fact))
+        self.added.contains(fact) || (self.base.facts.contains(fact) && !self.removed.contains(fact))
     }
 
     /// Makes `fact` true; returns whether it was false before.
@@ -102,12 +101,7 @@ impl World {
         let live = move |fact: &&Term| !self.removed.contains(*fact);
         match key_of(pattern) {
             Some(key) => {
-                let base = self
-                    .base
-                    .index
-                    .get(&key)
-                    .map(|v| v.as_slice())
-                    .unwrap_or(&[]);
+                let base = self.base.index.get(&key).map(|v| v.as_slice()).unwrap_or(&[]);
                 let name = key.0.clone();
                 let arity = key.1;
                 Box::new(
@@ -118,25 +112,13 @@ impl World {
                     ),
                 )
             }
-            None => Box::new(
-                self.base
-                    .index
-                    .values()
-                    .flatten()
-                    .filter(live)
-                    .chain(self.added.iter()),
-            ),
+            None => Box::new(self.base.index.values().flatten().filter(live).chain(self.added.iter())),
         }
     }
 
     /// Calls `found` with every extension of `subst` under which all `literals` hold, in a
     /// deterministic order, until `found` returns `false`. Returns `false` if stopped early.
-    pub fn solve(
-        &self,
-        literals: &[Term],
-        subst: &Subst,
-        found: &mut dyn FnMut(&Subst) -> bool,
-    ) -> bool {
+    pub fn solve(&self, literals: &[Term], subst: &Subst, found: &mut dyn FnMut(&Subst) -> bool) -> bool {
         let Some((first, rest)) = literals.split_first() else {
             return found(subst);
         };

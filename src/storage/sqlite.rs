@@ -8,8 +8,7 @@ use std::time::Duration;
 
 use async_trait::async_trait;
 use sqlx::sqlite::{
-    SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteRow,
-    SqliteSynchronous,
+    SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteRow, SqliteSynchronous,
 };
 use sqlx::{Row, Sqlite, Transaction};
 
@@ -81,8 +80,7 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
     let term: String = row.try_get("term")?;
     let term = Term::parse(&term).map_err(|e| corrupt(id, &e.to_string()))?;
     let when_json: String = row.try_get("when_json")?;
-    let when_texts: Vec<String> =
-        serde_json::from_str(&when_json).map_err(|e| corrupt(id, &e.to_string()))?;
+    let when_texts: Vec<String> = serde_json::from_str(&when_json).map_err(|e| corrupt(id, &e.to_string()))?;
     let when = when_texts
         .iter()
         .map(|t| Term::parse(t))
@@ -109,11 +107,9 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
 #[async_trait]
 impl NormStore for SqliteStore {
     async fn version(&self) -> Result<i64, StoreError> {
-        Ok(
-            sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
-                .fetch_one(&self.pool)
-                .await?,
-        )
+        Ok(sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
+            .fetch_one(&self.pool)
+            .await?)
     }
 
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError> {
@@ -122,13 +118,9 @@ impl NormStore for SqliteStore {
         let version: i64 = sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
             .fetch_one(&mut *tx)
             .await?;
-        let rows = sqlx::query(concat!(
-            "SELECT ",
-            norm_columns!(),
-            " FROM norms ORDER BY id"
-        ))
-        .fetch_all(&mut *tx)
-        .await?;
+        let rows = sqlx::query(concat!("SELECT ", norm_columns!(), " FROM norms ORDER BY id"))
+            .fetch_all(&mut *tx)
+            .await?;
         tx.commit().await?;
         let norms = rows.iter().map(norm_from_row).collect::<Result<_, _>>()?;
         Ok((version, norms))
@@ -151,10 +143,7 @@ impl NormStore for SqliteStore {
         .await?;
         bump(&mut tx).await?;
         tx.commit().await?;
-        Ok(Norm {
-            id,
-            spec: spec.clone(),
-        })
+        Ok(Norm { id, spec: spec.clone() })
     }
 
     async fn list(&self) -> Result<Vec<Norm>, StoreError> {
@@ -162,14 +151,10 @@ impl NormStore for SqliteStore {
     }
 
     async fn get(&self, id: i64) -> Result<Option<Norm>, StoreError> {
-        let row = sqlx::query(concat!(
-            "SELECT ",
-            norm_columns!(),
-            " FROM norms WHERE id = ?"
-        ))
-        .bind(id)
-        .fetch_optional(&self.pool)
-        .await?;
+        let row = sqlx::query(concat!("SELECT ", norm_columns!(), " FROM norms WHERE id = ?"))
+            .bind(id)
+            .fetch_optional(&self.pool)
+            .await?;
         row.as_ref().map(norm_from_row).transpose()
     }
 

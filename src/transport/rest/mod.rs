@@ -45,11 +45,9 @@ pub fn router(state: AppState) -> Router {
         })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
         .layer(DefaultBodyLimit::max(limit))
-        .layer(CatchPanicLayer::custom(
-            |_: Box<dyn std::any::Any + Send>| {
-                Error::Internal("a handler panicked".to_owned()).into_response()
-            },
-        ))
+        .layer(CatchPanicLayer::custom(|_: Box<dyn std::any::Any + Send>| {
+            Error::Internal("a handler panicked".to_owned()).into_response()
+        }))
         .layer(TraceLayer::new_for_http())
         .with_state(state)
 }
@@ -62,10 +60,7 @@ impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
 
     async fn from_request(req: Request, state: &AppState) -> Result<Self, Error> {
         if let Some(content_type) = req.headers().get(header::CONTENT_TYPE) {
-            let text = content_type
-                .to_str()
-                .unwrap_or_default()
-                .to_ascii_lowercase();
+            let text = content_type.to_str().unwrap_or_default().to_ascii_lowercase();
             let essence = text.split(';').next().unwrap_or_default().trim();
             if essence != "application/json" && !essence.ends_with("+json") {
                 return Err(Error::UnsupportedMediaType {
@@ -103,10 +98,7 @@ impl FromRequestParts<AppState> for Admin {
             .headers
             .get(header::AUTHORIZATION)
             .and_then(|v| v.to_str().ok())
-            .and_then(|v| {
-                v.strip_prefix("Bearer ")
-                    .or_else(|| v.strip_prefix("bearer "))
-            })
+            .and_then(|v| v.strip_prefix("Bearer ").or_else(|| v.strip_prefix("bearer ")))
             .map(str::trim)
             .ok_or(Error::Unauthenticated)?;
         if bool::from(sent.as_bytes().ct_eq(expected.as_bytes())) {
@@ -147,19 +139,12 @@ async fn create_norm(
     Ok(response)
 }
 
-async fn get_norm(
-    State(app): State<AppState>,
-    Path(id): Path<String>,
-) -> Result<Json<NormDto>, Error> {
+async fn get_norm(State(app): State<AppState>, Path(id): Path<String>) -> Result<Json<NormDto>, Error> {
     let norm = app.core.get_norm(norm_id(&id)?).await?;
     Ok(Json(NormDto::from(&norm)))
 }
 
-async fn delete_norm(
-    State(app): State<AppState>,
-    _: Admin,
-    Path(id): Path<String>,
-) -> Result<StatusCode, Error> {
+async fn delete_norm(State(app): State<AppState>, _: Admin, Path(id): Path<String>) -> Result<StatusCode, Error> {
     app.core.delete_norm(norm_id(&id)?).await?;
     Ok(StatusCode::NO_CONTENT)
 }

@@ -1,0 +1,163 @@
+//! `spawn_app()`: the real service on a free port, with its own database file.
+
+use std::path::PathBuf;
+
+use reqwest::{Client, Response, StatusCode};
+use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES};
+use serde_json::{Value, json};
+use tempfile::TempDir;
+use tokio::sync::oneshot;
+
+pub struct TestApp {
+    pub base: String,
+    pub client: Client,
+    pub db_path: PathBuf,
+    /// Keeps the database directory alive as long as the app.
+    pub dir: std::sync::Arc<TempDir>,
+    stop: Option<oneshot::Sender<()>>,
+    task: Option<tokio::task::JoinHandle<()>>,
+}
+
+pub struct Options {
+    pub admin_token: Option<String>,
+    pub max_body_bytes: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            admin_token: None,
+            max_body_bytes: DEFAULT_MAX_BODY_BYTES,
+        }
+    }
+}
+
+pub async fn spawn_app() -> TestApp {
+    spawn_with(Options::default()).await
+}
+
+pub async fn spawn_with(options: Options) -> TestApp {
+    let dir = std::sync::Arc::new(tempfile::tempdir().expect("temp dir"));
+    spawn_on(dir, options).await
+}
+
+/// Another server on the same database directory: a restart, or a second process sharing it.
+pub async fn spawn_on(dir: std::sync::Arc<TempDir>, options: Options) -> TestApp {
+    let db_path = dir.path().join("scruple.db");
+    let config = Config {
+        listen: "127.0.0.1:0".to_owned(),
+        database_url: format!("sqlite://{}", db_path.display()),
+        admin_token: options.admin_token,
+        max_body_bytes: options.max_body_bytes,
+    };
+    let app = Application::build(config).await.expect("the service starts");
+    let addr = app.local_addr().expect("bound");
+    let (stop, stopped) = oneshot::channel::<()>();
+    let task = tokio::spawn(async move {
+        app.run_until(async {
+            let _ = stopped.await;
+        })
+        .await
+        .expect("serves");
+    });
+    TestApp {
+        base: format!("http://{addr}"),
+        client: Client::new(),
+        db_path,
+        dir,
+        stop: Some(stop),
+        task: Some(task),
+    }
+}
+
+impl TestApp {
+    pub fn url(&self, path: &str) -> String {
+        format!("{}{path}", self.base)
+    }
+
+    pub async fn post(&self, path: &str, body: &Value) -> Response {
+        self.client
+            .post(self.url(path))
+            .json(body)
+            .send()
+            .await
+            .expect("request sent")
+    }
+
+    pub async fn get(&self, path: &str) -> Response {
+        self.client.get(self.url(path)).send().await.expect("request sent")
+    }
+
+    pub async fn delete(&self, path: &str) -> Response {
+        self.client.delete(self.url(path)).send().await.expect("request sent")
+    }
+
+    /// Adds a norm and returns its id; panics unless the service answers 201.
+    pub async fn add_norm(&self, norm: &Value) -> i64 {
+        let response = self.post("/v1/norms", norm).await;
+        assert_eq!(response.status(), StatusCode::CREATED, "adding {norm}");
+        let body: Value = response.json().await.unwrap();
+        body["id"].as_i64().expect("an integer id")
+    }
+
+    pub async fn clarify(&self, request: &Value) -> Value {
+        let response = self.post("/v1/clarify", request).await;
+        assert_eq!(response.status(), StatusCode::OK, "clarify {request}");
+        response.json().await.unwrap()
+    }
+
+    pub async fn norms(&self) -> Vec<Value> {
+        let response = self.get("/v1/norms").await;
+        assert_eq!(response.status(), StatusCode::OK);
+        response.json().await.unwrap()
+    }
+
+    /// Stops serving and waits until in-flight requests are drained.
+    pub async fn stop(mut self) {
+        if let Some(stop) = self.stop.take() {
+            let _ = stop.send(());
+        }
+        if let Some(task) = self.task.take() {
+            task.await.expect("server task ends cleanly");
+        }
+    }
+}
+
+/// The paper's scenario file, read from `../shared` as the project's tests must.
+pub fn paper_demo() -> Value {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/scenarios/paper-demo.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
+    serde_json::from_str(&text).expect("paper-demo.json is JSON")
+}
+
+pub fn lab_scene() -> Value {
+    paper_demo()["scenes"]["lab"].clone()
+}
+
+/// "Get the vase." on the lab scene.
+pub fn get_vase() -> Value {
+    json!({
+        "directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."},
+        "scene": lab_scene(),
+    })
+}
+
+/// Asserts an RFC 9457 answer with the given status and, when given, the field pointer.
+pub async fn assert_problem(response: Response, status: StatusCode, field: Option<&str>) -> Value {
+    assert_eq!(response.status(), status);
+    let content_type = response
+        .headers()
+        .get("content-type")
+        .map(|v| v.to_str().unwrap().to_owned());
+    assert_eq!(content_type.as_deref(), Some("application/problem+json"));
+    let body: Value = response.json().await.expect("a JSON problem");
+    assert_eq!(body["status"].as_u64(), Some(u64::from(status.as_u16())), "{body}");
+    assert!(
+        body["type"].is_string() && body["title"].is_string() && body["detail"].is_string(),
+        "{body}"
+    );
+    if let Some(field) = field {
+        assert_eq!(body["field"].as_str(), Some(field), "{body}");
+    }
+    body
+}

@@ -1,0 +1,9 @@
+//! One integration-test binary: the real service on port 0 with a fresh database per test.
+
+mod auth;
+mod binary;
+mod errors;
+mod fail_closed;
+mod helpers;
+mod norms;
+mod paper_demo;

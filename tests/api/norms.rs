@@ -1,0 +1,140 @@
+//! The norms API: create, list, get, delete; canonical terms; persistence; visibility across
+//! processes sharing one database.
+
+use reqwest::StatusCode;
+use serde_json::{Value, json};
+
+use crate::helpers::{Options, assert_problem, get_vase, spawn_app, spawn_on};
+
+#[tokio::test]
+async fn a_norm_is_stored_canonical_listed_fetched_and_deleted() {
+    let app = spawn_app().await;
+    let response = app
+        .post("/v1/norms", &json!({"kind": "forbidden_state", "state": "holding( self , X:physobj )", "when": ["fragile( X )"], "severity": 4, "context": "hospital", "note": "no fragile things in hand"}))
+        .await;
+    assert_eq!(response.status(), StatusCode::CREATED);
+    let location = response.headers()["location"].to_str().unwrap().to_owned();
+    let created: Value = response.json().await.unwrap();
+    let id = created["id"].as_i64().unwrap();
+    assert_eq!(location, format!("/v1/norms/{id}"));
+    assert_eq!(
+        created,
+        json!({"id": id, "kind": "forbidden_state", "state": "holding(self,X)", "when": ["fragile(X)"],
+               "severity": 4, "context": "hospital", "note": "no fragile things in hand"})
+    );
+    let defaulted = app
+        .post("/v1/norms", &json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    let defaulted: Value = defaulted.json().await.unwrap();
+    assert_eq!(defaulted["severity"], 3);
+    assert_eq!(defaulted["when"], json!([]));
+    assert!(defaulted.get("context").is_none());
+
+    assert_eq!(app.norms().await, vec![created.clone(), defaulted.clone()]);
+    let fetched: Value = app.get(&format!("/v1/norms/{id}")).await.json().await.unwrap();
+    assert_eq!(fetched, created);
+
+    assert_eq!(
+        app.delete(&format!("/v1/norms/{id}")).await.status(),
+        StatusCode::NO_CONTENT
+    );
+    assert_problem(app.get(&format!("/v1/norms/{id}")).await, StatusCode::NOT_FOUND, None).await;
+    assert_problem(
+        app.delete(&format!("/v1/norms/{id}")).await,
+        StatusCode::NOT_FOUND,
+        None,
+    )
+    .await;
+    assert_problem(app.get("/v1/norms/not-a-number").await, StatusCode::NOT_FOUND, None).await;
+    assert_eq!(app.norms().await, vec![defaulted]);
+}
+
+#[tokio::test]
+async fn ids_are_never_reused_after_a_delete() {
+    let app = spawn_app().await;
+    let first = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "steal"}))
+        .await;
+    assert_eq!(
+        app.delete(&format!("/v1/norms/{first}")).await.status(),
+        StatusCode::NO_CONTENT
+    );
+    let second = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "steal"}))
+        .await;
+    assert!(second > first);
+}
+
+#[tokio::test]
+async fn norms_survive_a_restart() {
+    let app = spawn_app().await;
+    let dir = app.dir.clone();
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let before = app.norms().await;
+    app.stop().await;
+
+    let again = spawn_on(dir, Options::default()).await;
+    assert_eq!(again.norms().await, before);
+    let answer = again.clarify(&get_vase()).await;
+    assert_eq!(answer["decision"], "assume");
+    assert_eq!(answer["goal"], "did(self,get(object4))");
+}
+
+#[tokio::test]
+async fn a_change_on_one_process_is_seen_by_the_very_next_request_on_another() {
+    let one = spawn_app().await;
+    let other = spawn_on(one.dir.clone(), Options::default()).await;
+
+    // Nothing forbidden yet: both vases may be got, so the robot asks.
+    assert_eq!(other.clarify(&get_vase()).await["decision"], "ask");
+
+    let id = one
+        .add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let answer = other.clarify(&get_vase()).await;
+    assert_eq!(answer["decision"], "assume");
+    assert_eq!(answer["goal"], "did(self,get(object4))");
+    assert_eq!(answer["interpretations"][0]["reasons"][0]["norm_id"], id);
+
+    assert_eq!(
+        other.delete(&format!("/v1/norms/{id}")).await.status(),
+        StatusCode::NO_CONTENT
+    );
+    let answer = one.clarify(&get_vase()).await;
+    assert_eq!(answer["decision"], "ask");
+    assert_eq!(answer["norm_version"], 2);
+}
+
+#[tokio::test]
+async fn context_norms_apply_only_to_requests_in_that_context() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "get", "context": "hospital"}))
+        .await;
+    let mut request = json!({
+        "directive": {"action": "get", "arguments": [{"type": "mug"}]},
+        "scene": crate::helpers::lab_scene(),
+    });
+    assert_eq!(app.clarify(&request).await["decision"], "comply");
+    request["context"] = json!("hospital");
+    let answer = app.clarify(&request).await;
+    assert_eq!(answer["decision"], "refuse");
+    assert_eq!(
+        answer["utterance"],
+        "I cannot get the mug because get is forbidden action."
+    );
+}
+
+#[tokio::test]
+async fn when_conditions_are_checked_against_the_scene() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "holding(self,X)", "when": ["fragile(X)"]}))
+        .await;
+    let answer = app.clarify(&get_vase()).await;
+    assert_eq!(answer["decision"], "assume");
+    assert_eq!(answer["goal"], "did(self,get(object4))");
+    assert_eq!(
+        answer["interpretations"][0]["reasons"][0]["detail"],
+        "holding(self,object3)"
+    );
+}
