@@ -99,8 +99,8 @@ pub struct Candidate {
 pub enum Directive {
     /// A verb and one reference per argument; readings are every combination of candidates.
     Action { verb: String, arguments: Vec<Reference> },
-    /// An action with variables (the `X` of `did(self,get(X))`) and each variable's candidates,
-    /// in the order the variables first appear.
+    /// An action with variables, already unwrapped from `want(S,did(self,...))` by the caller
+    /// (`get(X)`), and each variable's candidates, in the order the variables first appear.
     Form {
         action: Term,
         bindings: Vec<(Sym, Vec<Candidate>)>,
@@ -236,8 +236,19 @@ enum Readings {
     Found(Vec<(Term, f64)>),
 }
 
+/// One argument's (or variable's) candidates, each with its score.
+type Slot = Vec<(Term, f64)>;
+
+/// How one choice of candidates, one per slot, becomes an action.
+enum Template<'a> {
+    /// The verb applied to the chosen objects, in argument order.
+    Verb(Sym),
+    /// The form with each variable (in first-appearance order) bound to its choice.
+    Form(&'a Term, Vec<Sym>),
+}
+
 fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineError> {
-    let (verb, slots, template): (Sym, Vec<Vec<(Term, f64)>>, Option<(&Term, Vec<Sym>)>) = match directive {
+    let (template, slots): (Template<'_>, Vec<Slot>) = match directive {
         Directive::Action { verb, arguments } => {
             let mut slots = Vec::new();
             let mut missing = Vec::new();
@@ -256,7 +267,7 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
             if !missing.is_empty() {
                 return Ok(Readings::Unresolved(missing));
             }
-            (Sym::from(verb.as_str()), slots, None)
+            (Template::Verb(Sym::from(verb.as_str())), slots)
         }
         Directive::Form { action, bindings } => {
             let variables = action.variables();
@@ -281,7 +292,7 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
             if !missing.is_empty() {
                 return Ok(Readings::Unresolved(missing));
             }
-            (Sym::from(""), slots, Some((action, variables)))
+            (Template::Form(action, variables), slots)
         }
     };
     let count = slots
@@ -300,8 +311,8 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
         let picked: Vec<&(Term, f64)> = choice.iter().zip(&slots).map(|(&i, s)| &s[i]).collect();
         let score = picked.iter().map(|(_, s)| s).product::<f64>();
         let action = match &template {
-            None => Term::Compound(verb.clone(), picked.iter().map(|(t, _)| t.clone()).collect()),
-            Some((form, variables)) => {
+            Template::Verb(verb) => Term::Compound(verb.clone(), picked.iter().map(|(t, _)| t.clone()).collect()),
+            Template::Form(form, variables) => {
                 let mut subst = super::term::Subst::new();
                 for (variable, (value, _)) in variables.iter().zip(&picked) {
                     subst.bind(variable.clone(), value.clone());

@@ -11,7 +11,7 @@ use parry3d::na::{Quaternion, UnitQuaternion};
 use parry3d::query::PointQuery;
 use parry3d::shape::{Ball, Cuboid, Cylinder};
 
-use super::term::{Sym, Term};
+use super::term::Term;
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -175,11 +175,6 @@ pub fn spoken(name: &str) -> String {
         previous = Some(c);
     }
     out.trim_end().to_owned()
-}
-
-/// The symbol for an object id, as terms carry it.
-pub fn id_sym(id: &str) -> Sym {
-    Sym::from(id)
 }
 
 #[cfg(test)]

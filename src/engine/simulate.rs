@@ -184,7 +184,12 @@ impl Run<'_> {
         for step in &def.steps {
             match step {
                 Step::Do(sub) => self.run(&sub.substitute(&bindings), false, depth + 1),
-                Step::Itself => self.execute(action, def, &bindings),
+                Step::Itself => {
+                    // The verb's own step, in the world its earlier steps made (a `when` may
+                    // hold only now); the same reason found by check (1) is kept once.
+                    self.check_action(action);
+                    self.execute(action, def, &bindings);
+                }
             }
         }
     }
