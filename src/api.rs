@@ -151,7 +151,11 @@ impl From<&Norm> for NormDto {
 // ---------------------------------------------------------------------------------------------
 // Clarify: request
 
+/// Unknown members are refused here and in the directive and options (a misspelt `options`
+/// would silently change an experiment's condition); scenes and objects accept extra members,
+/// since perception pipelines attach their own.
 #[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
 pub struct ClarifyBody {
     #[serde(default)]
     pub speaker: Option<String>,

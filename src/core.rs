@@ -79,7 +79,7 @@ impl Core {
 
     /// Ready when the store answers.
     pub async fn ready(&self) -> Result<(), Error> {
-        self.store.ping().await.map_err(|e| Error::NormsUnavailable(e.0))
+        Ok(self.store.ping().await?)
     }
 }
 

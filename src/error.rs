@@ -36,6 +36,9 @@ pub enum Error {
     /// The norm store cannot be read: decisions fail closed.
     #[error("the norms cannot be read, so no decision is made: {0}")]
     NormsUnavailable(String),
+    /// The norm store failed while curating norms (locked, gone, corrupt); nothing was changed.
+    #[error("the norm store is unavailable: {0}")]
+    StoreUnavailable(String),
     #[error("internal error: {0}")]
     Internal(String),
 }
@@ -72,6 +75,11 @@ impl Error {
                 "norms-unavailable",
                 "Norms unavailable",
             ),
+            Error::StoreUnavailable(_) => (
+                StatusCode::SERVICE_UNAVAILABLE,
+                "store-unavailable",
+                "Norm store unavailable",
+            ),
             Error::Internal(_) => (StatusCode::INTERNAL_SERVER_ERROR, "internal", "Internal error"),
         }
     }
@@ -94,7 +102,7 @@ impl From<EngineError> for Error {
 
 impl From<StoreError> for Error {
     fn from(e: StoreError) -> Self {
-        Error::Internal(e.0)
+        Error::StoreUnavailable(e.0)
     }
 }
 
@@ -116,7 +124,7 @@ impl IntoResponse for Error {
     fn into_response(self) -> Response {
         let (status, slug, title) = self.codes();
         match &self {
-            Error::Internal(_) | Error::NormsUnavailable(_) => {
+            Error::Internal(_) | Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => {
                 tracing::error!(error = %self, "request failed")
             }
             _ => tracing::debug!(error = %self, "request rejected"),
@@ -143,7 +151,7 @@ impl IntoResponse for Error {
                 .headers_mut()
                 .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
         }
-        if matches!(self, Error::NormsUnavailable(_)) {
+        if matches!(self, Error::NormsUnavailable(_) | Error::StoreUnavailable(_)) {
             response
                 .headers_mut()
                 .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));

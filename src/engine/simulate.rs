@@ -151,8 +151,10 @@ impl Run<'_> {
         }
     }
 
-    fn check_entered(&mut self, world: &World, new_facts: &[Term]) {
-        for v in self.env.norms.check_entered(new_facts, world, self.env.context) {
+    /// Forbidden states the world is in because of `new_facts`, just made true in it.
+    fn check_entered(&mut self, new_facts: &[Term]) {
+        let found = self.env.norms.check_entered(new_facts, &self.world, self.env.context);
+        for v in found {
             self.push(Reason {
                 cause: Cause::ForbiddenState { fact: v.fact },
                 norm_id: Some(v.norm_id),
@@ -197,7 +199,8 @@ impl Run<'_> {
     /// The verb's own execution: effects (and the states they enter), then needs, judged on the
     /// world before the effects.
     fn execute(&mut self, action: &Term, def: &super::action::ActionDef, bindings: &Subst) {
-        let before = self.world.clone();
+        // Preconditions are judged on the world before the effects; copy it only if asked.
+        let before = (!def.preconditions.is_empty()).then(|| self.world.clone());
         self.outcome.plan.push(action.clone());
         for fact in &def.removes {
             self.world.retract(&fact.substitute(bindings));
@@ -208,8 +211,7 @@ impl Run<'_> {
                 new_facts.push(fact);
             }
         }
-        let world = self.world.clone();
-        self.check_entered(&world, &new_facts);
+        self.check_entered(&new_facts);
         for param in &def.reach {
             let Some(target) = bindings.get(param) else {
                 continue;
@@ -226,10 +228,12 @@ impl Run<'_> {
                 None => self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() })),
             }
         }
-        for precondition in &def.preconditions {
-            let fact = precondition.substitute(bindings);
-            if !before.satisfiable(std::slice::from_ref(&fact), &Subst::new()) {
-                self.push(Reason::infeasible(Cause::Precondition { fact }));
+        if let Some(before) = before {
+            for precondition in &def.preconditions {
+                let fact = precondition.substitute(bindings);
+                if !before.satisfiable(std::slice::from_ref(&fact), &Subst::new()) {
+                    self.push(Reason::infeasible(Cause::Precondition { fact }));
+                }
             }
         }
     }
@@ -246,10 +250,12 @@ pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
         outcome: Outcome::default(),
     };
     run.check_action(action);
-    let mut hypothetical = world.clone();
+    // Check (2) asks about the goal state before any step runs: a hypothetical world in which
+    // only `did(self,action)` has been made true, discarded afterwards.
     let done = did(action);
-    if hypothetical.assert(done.clone()) {
-        run.check_entered(&hypothetical, &[done]);
+    if run.world.assert(done.clone()) {
+        run.check_entered(std::slice::from_ref(&done));
+        run.world.retract(&done);
     }
     run.run(action, true, 0);
     run.outcome

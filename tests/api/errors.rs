@@ -161,6 +161,11 @@ async fn bad_clarify_requests_name_the_field_at_fault() {
             vase_with(|r| r["speaker"] = json!("Dr Smith")),
             "/speaker",
         ),
+        (
+            "a misspelt top-level member",
+            vase_with(|r| r["optoins"] = json!({"strategy": "reflexive"})),
+            "/optoins",
+        ),
         ("an empty context", vase_with(|r| r["context"] = json!("")), "/context"),
         ("not an object", json!(42), ""),
     ];

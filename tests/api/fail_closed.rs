@@ -31,6 +31,15 @@ async fn a_missing_norm_table_fails_closed() {
     )
     .await;
     assert!(problem.get("decision").is_none());
+    // Curating fails the same way, and says the store is at fault, not the norm.
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    assert_problem(
+        app.post("/v1/norms", &norm).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert_problem(app.get("/v1/norms").await, StatusCode::SERVICE_UNAVAILABLE, None).await;
 }
 
 #[tokio::test]
