@@ -8,6 +8,7 @@ use std::collections::{BTreeMap, HashSet};
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
 
 use crate::engine::clarify::{
     Candidate, Decision, Directive, Interpretation, Options, Reference, Request, SinglePermissible, Strategy,
@@ -85,7 +86,7 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
 
 /// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
 /// silently widen a norm.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NormBody {
     pub kind: Option<String>,
@@ -112,7 +113,7 @@ impl NormBody {
 }
 
 /// A stored norm, canonical: terms without spaces or types.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct NormDto {
     pub id: i64,
     pub kind: String,
@@ -154,7 +155,7 @@ impl From<&Norm> for NormDto {
 /// Unknown members are refused here and in the directive and options (a misspelt `options`
 /// would silently change an experiment's condition); scenes and objects accept extra members,
 /// since perception pipelines attach their own.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ClarifyBody {
     #[serde(default)]
@@ -168,7 +169,7 @@ pub struct ClarifyBody {
 }
 
 /// Either `action` + `arguments` or `form` + `bindings`; `text` is the human's words, echoed.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DirectiveBody {
     #[serde(default)]
@@ -183,7 +184,7 @@ pub struct DirectiveBody {
     pub text: Option<String>,
 }
 
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ReferenceBody {
     #[serde(default)]
@@ -197,7 +198,7 @@ pub struct ReferenceBody {
 }
 
 /// A candidate from an upstream resolver: an object id, or an id with a score.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(untagged, expecting = "an object id, or {\"id\": ID, \"score\": NUMBER}")]
 pub enum BindingBody {
     Id(String),
@@ -205,11 +206,11 @@ pub enum BindingBody {
 }
 
 /// An attribute value: a string, or a number or boolean taken as its JSON text.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(untagged, expecting = "a string, number or boolean")]
 pub enum Scalar {
     Text(String),
-    Number(serde_json::Number),
+    Number(f64),
     Bool(bool),
 }
 
@@ -223,7 +224,7 @@ impl Scalar {
     }
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 pub struct SceneBody {
     pub agent: AgentBody,
     #[serde(default)]
@@ -232,17 +233,18 @@ pub struct SceneBody {
     pub facts: Vec<String>,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 pub struct AgentBody {
     #[serde(default)]
     pub id: Option<String>,
     /// Metres, world frame (z up).
+    #[schema(min_items = 3, max_items = 3)]
     pub position: [f64; 3],
     /// Metres.
     pub reach: f64,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 pub struct ObjectBody {
     pub id: String,
     #[serde(rename = "type")]
@@ -252,23 +254,33 @@ pub struct ObjectBody {
     #[serde(default)]
     pub attributes: BTreeMap<String, Scalar>,
     /// Centre of the shape, metres, world frame.
+    #[schema(min_items = 3, max_items = 3)]
     pub position: [f64; 3],
     #[serde(default)]
     pub shape: Option<ShapeBody>,
     /// Unit quaternion `[x, y, z, w]`.
     #[serde(default)]
+    #[schema(min_items = 4, max_items = 4)]
     pub rotation: Option<[f64; 4]>,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ShapeBody {
-    Ball { radius: f64 },
-    Cuboid { half_extents: [f64; 3] },
-    Cylinder { radius: f64, half_height: f64 },
+    Ball {
+        radius: f64,
+    },
+    Cuboid {
+        #[schema(min_items = 3, max_items = 3)]
+        half_extents: [f64; 3],
+    },
+    Cylinder {
+        radius: f64,
+        half_height: f64,
+    },
 }
 
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OptionsBody {
     #[serde(default)]
@@ -277,14 +289,14 @@ pub struct OptionsBody {
     pub single_permissible: Option<SinglePermissibleBody>,
 }
 
-#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum StrategyBody {
     Moral,
     Reflexive,
 }
 
-#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, ToSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SinglePermissibleBody {
     Assume,
@@ -637,7 +649,7 @@ impl TryFrom<ClarifyBody> for ClarifyInput {
 // ---------------------------------------------------------------------------------------------
 // Clarify: response
 
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct ReasonDto {
     pub kind: String,
     pub detail: String,
@@ -659,7 +671,7 @@ impl From<&Reason> for ReasonDto {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct InterpretationDto {
     pub action: String,
     pub description: String,
@@ -685,7 +697,7 @@ impl From<&Interpretation> for InterpretationDto {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct DecisionDto {
     pub decision: String,
     pub utterance: String,

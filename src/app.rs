@@ -9,9 +9,12 @@ use std::sync::Arc;
 
 use tokio::net::TcpListener;
 
+use tower_http::trace::TraceLayer;
+
 use crate::core::Core;
+use crate::error::Error;
 use crate::storage::{SqliteStore, StoreError};
-use crate::transport::rest::{AppState, router};
+use crate::transport::{AppState, grpc, rest};
 
 /// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
 pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
@@ -32,6 +35,8 @@ pub enum StartError {
     Listen { addr: String, source: std::io::Error },
     #[error(transparent)]
     Store(#[from] StoreError),
+    #[error("cannot set up gRPC: {0}")]
+    Grpc(Error),
 }
 
 /// A service bound to its port, ready to run.
@@ -58,7 +63,7 @@ impl Application {
             })?;
         Ok(Application {
             listener,
-            router: router(state),
+            router: one_port(state).await?,
         })
     }
 
@@ -72,4 +77,16 @@ impl Application {
             .with_graceful_shutdown(shutdown)
             .await
     }
+}
+
+/// REST and gRPC on one router. gRPC's routes bring a fallback that answers any path with
+/// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
+/// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
+async fn one_port(state: AppState) -> Result<axum::Router, StartError> {
+    let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
+    Ok(rest::router(state)
+        .merge(grpc)
+        .fallback(|| async { Error::NoRoute })
+        .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
+        .layer(TraceLayer::new_for_http()))
 }

@@ -23,6 +23,10 @@ pub enum Error {
     UnsupportedMediaType { detail: String },
     #[error("{what} not found")]
     NotFound { what: String },
+    /// No route serves this path: distinct from a missing norm, so clients and the API drift
+    /// test can tell the two apart.
+    #[error("no route serves this path")]
+    NoRoute,
     #[error("the method is not allowed here")]
     MethodNotAllowed,
     #[error("the body is larger than the limit of {limit} bytes")]
@@ -51,36 +55,92 @@ impl Error {
         }
     }
 
-    /// The single place where a failure becomes an HTTP status and a problem type (slug, title).
-    pub fn codes(&self) -> (StatusCode, &'static str, &'static str) {
-        match self {
-            Error::MalformedBody { .. } => (StatusCode::BAD_REQUEST, "malformed-body", "Malformed request body"),
-            Error::Invalid { .. } => (StatusCode::UNPROCESSABLE_ENTITY, "invalid-field", "Invalid field"),
+    /// The single place where a failure becomes an HTTP status, a gRPC code and a problem type
+    /// (slug, title). Both transports read it; there is no wildcard arm.
+    pub fn codes(&self) -> Codes {
+        use tonic::Code;
+        let (http, grpc, slug, title) = match self {
+            Error::MalformedBody { .. } => (
+                StatusCode::BAD_REQUEST,
+                Code::InvalidArgument,
+                "malformed-body",
+                "Malformed request body",
+            ),
+            Error::Invalid { .. } => (
+                StatusCode::UNPROCESSABLE_ENTITY,
+                Code::InvalidArgument,
+                "invalid-field",
+                "Invalid field",
+            ),
             Error::UnsupportedMediaType { .. } => (
                 StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                Code::InvalidArgument,
                 "unsupported-media-type",
                 "Unsupported media type",
             ),
-            Error::NotFound { .. } => (StatusCode::NOT_FOUND, "not-found", "Not found"),
+            Error::NotFound { .. } => (StatusCode::NOT_FOUND, Code::NotFound, "not-found", "Not found"),
+            Error::NoRoute => (StatusCode::NOT_FOUND, Code::Unimplemented, "no-route", "No such route"),
             Error::MethodNotAllowed => (
                 StatusCode::METHOD_NOT_ALLOWED,
+                Code::Unimplemented,
                 "method-not-allowed",
                 "Method not allowed",
             ),
-            Error::PayloadTooLarge { .. } => (StatusCode::PAYLOAD_TOO_LARGE, "payload-too-large", "Payload too large"),
-            Error::Unauthenticated => (StatusCode::UNAUTHORIZED, "unauthenticated", "Unauthenticated"),
-            Error::Forbidden => (StatusCode::FORBIDDEN, "forbidden", "Forbidden"),
+            Error::PayloadTooLarge { .. } => (
+                StatusCode::PAYLOAD_TOO_LARGE,
+                Code::ResourceExhausted,
+                "payload-too-large",
+                "Payload too large",
+            ),
+            Error::Unauthenticated => (
+                StatusCode::UNAUTHORIZED,
+                Code::Unauthenticated,
+                "unauthenticated",
+                "Unauthenticated",
+            ),
+            Error::Forbidden => (StatusCode::FORBIDDEN, Code::PermissionDenied, "forbidden", "Forbidden"),
             Error::NormsUnavailable(_) => (
                 StatusCode::SERVICE_UNAVAILABLE,
+                Code::Unavailable,
                 "norms-unavailable",
                 "Norms unavailable",
             ),
             Error::StoreUnavailable(_) => (
                 StatusCode::SERVICE_UNAVAILABLE,
+                Code::Unavailable,
                 "store-unavailable",
                 "Norm store unavailable",
             ),
-            Error::Internal(_) => (StatusCode::INTERNAL_SERVER_ERROR, "internal", "Internal error"),
+            Error::Internal(_) => (
+                StatusCode::INTERNAL_SERVER_ERROR,
+                Code::Internal,
+                "internal",
+                "Internal error",
+            ),
+        };
+        Codes {
+            http,
+            grpc,
+            slug,
+            title,
+        }
+    }
+
+    /// What the client is told: internal details stay in the log.
+    fn public_detail(&self) -> String {
+        match self {
+            Error::Internal(_) => "the service failed; the error is logged".to_owned(),
+            Error::Invalid { detail, .. } => detail.clone(),
+            other => other.to_string(),
+        }
+    }
+
+    fn log(&self) {
+        match self {
+            Error::Internal(_) | Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => {
+                tracing::error!(error = %self, "request failed")
+            }
+            _ => tracing::debug!(error = %self, "request rejected"),
         }
     }
 
@@ -106,43 +166,46 @@ impl From<StoreError> for Error {
     }
 }
 
-/// RFC 9457 problem details.
-#[derive(Serialize)]
-pub struct Problem<'a> {
+/// How one failure shows on each transport.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Codes {
+    pub http: StatusCode,
+    pub grpc: tonic::Code,
+    /// The problem type's last path segment: `/problems/{slug}`.
+    pub slug: &'static str,
+    pub title: &'static str,
+}
+
+/// RFC 9457 problem details: every 4xx and 5xx answer of the REST API.
+#[derive(Serialize, utoipa::ToSchema)]
+pub struct Problem {
+    /// A URI reference naming the kind of problem, e.g. `/problems/invalid-field`.
     #[serde(rename = "type")]
     pub kind: String,
-    pub title: &'a str,
+    pub title: String,
+    /// The HTTP status, repeated.
     pub status: u16,
+    /// What went wrong, for a person.
     pub detail: String,
+    /// A JSON Pointer into the request body at the member at fault, when one is.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub field: Option<&'a str>,
+    pub field: Option<String>,
 }
 
 pub const PROBLEM_JSON: &str = "application/problem+json";
 
 impl IntoResponse for Error {
     fn into_response(self) -> Response {
-        let (status, slug, title) = self.codes();
-        match &self {
-            Error::Internal(_) | Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => {
-                tracing::error!(error = %self, "request failed")
-            }
-            _ => tracing::debug!(error = %self, "request rejected"),
-        }
-        let detail = match &self {
-            // Internal details stay in the log; the client learns only that it was ours.
-            Error::Internal(_) => "the service failed; the error is logged".to_owned(),
-            Error::Invalid { detail, .. } => detail.clone(),
-            other => other.to_string(),
-        };
+        let Codes { http, slug, title, .. } = self.codes();
+        self.log();
         let body = Problem {
             kind: format!("/problems/{slug}"),
-            title,
-            status: status.as_u16(),
-            detail,
-            field: self.field(),
+            title: title.to_owned(),
+            status: http.as_u16(),
+            detail: self.public_detail(),
+            field: self.field().map(str::to_owned),
         };
-        let mut response = (status, axum::Json(body)).into_response();
+        let mut response = (http, axum::Json(body)).into_response();
         response
             .headers_mut()
             .insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
@@ -157,5 +220,25 @@ impl IntoResponse for Error {
                 .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
         }
         response
+    }
+}
+
+impl From<Error> for tonic::Status {
+    /// The gRPC twin of the problem body: the code from the same table, the field (when one is
+    /// at fault) leading the message and in the `field` metadata entry.
+    fn from(error: Error) -> tonic::Status {
+        let Codes { grpc, .. } = error.codes();
+        error.log();
+        let message = match error.field() {
+            Some(field) => format!("{field}: {}", error.public_detail()),
+            None => error.public_detail(),
+        };
+        let mut status = tonic::Status::new(grpc, message);
+        if let Some(field) = error.field()
+            && let Ok(value) = field.parse()
+        {
+            status.metadata_mut().insert("field", value);
+        }
+        status
     }
 }

@@ -35,6 +35,8 @@ enum Command {
         #[arg(long, env = "SCRUPLE_MAX_BODY_BYTES", default_value_t = DEFAULT_MAX_BODY_BYTES)]
         max_body_bytes: usize,
     },
+    /// Print the REST API's OpenAPI 3.1 document (as `openapi/openapi.json` holds it).
+    Openapi,
 }
 
 async fn shutdown_signal() {
@@ -69,6 +71,16 @@ async fn main() -> ExitCode {
         .init();
     let Cli { command } = Cli::parse();
     match command {
+        Command::Openapi => match scruple::transport::rest::openapi().to_pretty_json() {
+            Ok(text) => {
+                println!("{text}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("scruple: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Command::Serve {
             listen,
             database_url,

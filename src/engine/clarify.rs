@@ -248,53 +248,53 @@ enum Template<'a> {
 }
 
 fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineError> {
-    let (template, slots): (Template<'_>, Vec<Slot>) = match directive {
+    // Each slot's candidates, with the words that name the slot if nothing matches it.
+    let (template, named): (Template<'_>, Vec<(Slot, String)>) = match directive {
         Directive::Action { verb, arguments } => {
-            let mut slots = Vec::new();
-            let mut missing = Vec::new();
-            for reference in arguments {
-                let found: Vec<(Term, f64)> = scene
-                    .objects
-                    .iter()
-                    .filter(|o| reference.matches(o))
-                    .map(|o| (Term::constant(&o.id), 1.0))
-                    .collect();
-                if found.is_empty() {
-                    missing.push(reference.words());
-                }
-                slots.push(found);
-            }
-            if !missing.is_empty() {
-                return Ok(Readings::Unresolved(missing));
-            }
+            let slots = arguments
+                .iter()
+                .map(|reference| {
+                    let found = scene
+                        .objects
+                        .iter()
+                        .filter(|o| reference.matches(o))
+                        .map(|o| (Term::constant(&o.id), 1.0))
+                        .collect();
+                    (found, reference.words())
+                })
+                .collect();
             (Template::Verb(Sym::from(verb.as_str())), slots)
         }
         Directive::Form { action, bindings } => {
             let variables = action.variables();
-            let mut slots = Vec::new();
-            let mut missing = Vec::new();
-            for variable in &variables {
-                let found: Vec<(Term, f64)> = bindings
-                    .iter()
-                    .find(|(v, _)| v == variable)
-                    .map(|(_, cs)| {
-                        cs.iter()
-                            .filter(|c| scene.object(&c.id).is_some())
-                            .map(|c| (Term::constant(&c.id), c.score))
-                            .collect()
-                    })
-                    .unwrap_or_default();
-                if found.is_empty() {
-                    missing.push(variable.to_string());
-                }
-                slots.push(found);
-            }
-            if !missing.is_empty() {
-                return Ok(Readings::Unresolved(missing));
-            }
+            let slots = variables
+                .iter()
+                .map(|variable| {
+                    let candidates = bindings
+                        .iter()
+                        .find(|(v, _)| v == variable)
+                        .map(|(_, cs)| cs.as_slice());
+                    let found = candidates
+                        .unwrap_or_default()
+                        .iter()
+                        .filter(|c| scene.object(&c.id).is_some())
+                        .map(|c| (Term::constant(&c.id), c.score))
+                        .collect();
+                    (found, variable.to_string())
+                })
+                .collect();
             (Template::Form(action, variables), slots)
         }
     };
+    let missing: Vec<String> = named
+        .iter()
+        .filter(|(found, _)| found.is_empty())
+        .map(|(_, w)| w.clone())
+        .collect();
+    if !missing.is_empty() {
+        return Ok(Readings::Unresolved(missing));
+    }
+    let slots: Vec<Slot> = named.into_iter().map(|(found, _)| found).collect();
     let count = slots
         .iter()
         .try_fold(1u128, |acc, s| acc.checked_mul(s.len() as u128))

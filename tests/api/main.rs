@@ -4,6 +4,8 @@ mod auth;
 mod binary;
 mod errors;
 mod fail_closed;
+mod grpc;
 mod helpers;
 mod norms;
+mod openapi;
 mod paper_demo;

@@ -3,52 +3,49 @@
 //! Owns: HTTP concerns only. Must not: validate domain input (that is `api`), decide anything
 //! (that is `core`), or answer any failure except through `Error`.
 
-use std::sync::Arc;
-
 use axum::extract::{DefaultBodyLimit, FromRequest, FromRequestParts, Path, Request, State};
 use axum::http::request::Parts;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use axum::routing::{get, post};
 use axum::{Json, Router};
 use bytes::Bytes;
 use serde::de::DeserializeOwned;
-use subtle::ConstantTimeEq;
 use tower_http::catch_panic::CatchPanicLayer;
-use tower_http::trace::TraceLayer;
+use utoipa::OpenApi;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
 
 use crate::api::{ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json};
-use crate::core::Core;
-use crate::error::Error;
+use crate::error::{Error, PROBLEM_JSON, Problem};
+use crate::transport::AppState;
 
-/// What every handler shares.
-#[derive(Clone)]
-pub struct AppState {
-    pub core: Arc<Core>,
-    /// When set, requests that change norms must carry `Authorization: Bearer <token>`.
-    pub admin_token: Option<Arc<str>>,
-    /// Largest request body accepted, bytes.
-    pub max_body_bytes: usize,
+mod doc;
+
+/// Every REST route, each registered with its OpenAPI operation: a route cannot be added here
+/// without documenting it, and `tests/api/openapi.rs` fails if anything is routed another way.
+fn routes() -> OpenApiRouter<AppState> {
+    OpenApiRouter::with_openapi(doc::ApiDoc::openapi())
+        .routes(routes!(healthz))
+        .routes(routes!(list_norms, create_norm))
+        .routes(routes!(get_norm, delete_norm))
+        .routes(routes!(clarify))
 }
 
+/// The OpenAPI 3.1 document of the REST API, as `openapi/openapi.json` holds it.
+pub fn openapi() -> utoipa::openapi::OpenApi {
+    routes().into_openapi()
+}
+
+/// The REST routes with their layers (body limit, panic guard). Fallbacks are set on the
+/// merged router in `app`, after gRPC's routes join.
 pub fn router(state: AppState) -> Router {
     let limit = state.max_body_bytes;
-    Router::new()
-        .route("/healthz", get(healthz))
-        .route("/v1/norms", get(list_norms).post(create_norm))
-        .route("/v1/norms/{id}", get(get_norm).delete(delete_norm))
-        .route("/v1/clarify", post(clarify))
-        .fallback(|| async {
-            Error::NotFound {
-                what: "this path".to_owned(),
-            }
-        })
-        .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
+    let (router, _) = routes().split_for_parts();
+    router
         .layer(DefaultBodyLimit::max(limit))
         .layer(CatchPanicLayer::custom(|_: Box<dyn std::any::Any + Send>| {
             Error::Internal("a handler panicked".to_owned()).into_response()
         }))
-        .layer(TraceLayer::new_for_http())
         .with_state(state)
 }
 
@@ -91,21 +88,8 @@ impl FromRequestParts<AppState> for Admin {
     type Rejection = Error;
 
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, Error> {
-        let Some(expected) = &state.admin_token else {
-            return Ok(Admin);
-        };
-        let sent = parts
-            .headers
-            .get(header::AUTHORIZATION)
-            .and_then(|v| v.to_str().ok())
-            .and_then(|v| v.strip_prefix("Bearer ").or_else(|| v.strip_prefix("bearer ")))
-            .map(str::trim)
-            .ok_or(Error::Unauthenticated)?;
-        if bool::from(sent.as_bytes().ct_eq(expected.as_bytes())) {
-            Ok(Admin)
-        } else {
-            Err(Error::Forbidden)
-        }
+        let authorization = parts.headers.get(header::AUTHORIZATION).and_then(|v| v.to_str().ok());
+        state.authorize_write(authorization).map(|()| Admin)
     }
 }
 
@@ -116,16 +100,45 @@ fn norm_id(text: &str) -> Result<i64, Error> {
     })
 }
 
+#[utoipa::path(get, path = "/healthz", tag = "service",
+    summary = "Readiness: the norm store is open and migrated",
+    responses(
+        (status = 200, description = "Ready", body = doc::Health, example = json!({"status": "ok"})),
+        (status = 503, description = "The norm store cannot be read", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>, Error> {
     app.core.ready().await?;
     Ok(Json(serde_json::json!({"status": "ok"})))
 }
 
+#[utoipa::path(get, path = "/v1/norms", tag = "norms",
+    summary = "Every norm, by ascending id",
+    responses(
+        (status = 200, description = "The norms", body = Vec<NormDto>),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn list_norms(State(app): State<AppState>) -> Result<Json<Vec<NormDto>>, Error> {
     let norms = app.core.list_norms().await?;
     Ok(Json(norms.iter().map(NormDto::from).collect()))
 }
 
+#[utoipa::path(post, path = "/v1/norms", tag = "norms",
+    summary = "Add a norm; nothing is stored unless every field is valid",
+    request_body(content = NormBody, example = json!({"kind": "forbidden_state", "state": "did(self,get(object3))", "note": "the fragile vase may not be got"})),
+    security((), ("admin_token" = [])),
+    responses(
+        (status = 201, description = "Stored, with its id; `Location` names it", body = NormDto,
+         headers(("location" = String, description = "/v1/norms/{id}")),
+         example = json!({"id": 2, "kind": "forbidden_state", "state": "did(self,get(object3))", "when": [], "severity": 3, "note": "the fragile vase may not be got"})),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
+         example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "6 is out of range 1..5", "field": "/severity"})),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn create_norm(
     State(app): State<AppState>,
     _: Admin,
@@ -139,16 +152,48 @@ async fn create_norm(
     Ok(response)
 }
 
+#[utoipa::path(get, path = "/v1/norms/{id}", tag = "norms",
+    summary = "One norm",
+    params(("id" = i64, Path, description = "The norm's id")),
+    responses(
+        (status = 200, description = "The norm", body = NormDto),
+        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn get_norm(State(app): State<AppState>, Path(id): Path<String>) -> Result<Json<NormDto>, Error> {
     let norm = app.core.get_norm(norm_id(&id)?).await?;
     Ok(Json(NormDto::from(&norm)))
 }
 
+#[utoipa::path(delete, path = "/v1/norms/{id}", tag = "norms",
+    summary = "Remove a norm",
+    params(("id" = i64, Path, description = "The norm's id")),
+    security((), ("admin_token" = [])),
+    responses(
+        (status = 204, description = "Removed"),
+        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn delete_norm(State(app): State<AppState>, _: Admin, Path(id): Path<String>) -> Result<StatusCode, Error> {
     app.core.delete_norm(norm_id(&id)?).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
+#[utoipa::path(post, path = "/v1/clarify", tag = "clarify",
+    summary = "Decide what to say about a directive that may be ambiguous",
+    description = "Simulates every reading of the directive against the norms in force and the robot's abilities, then complies, refuses, asks about the permissible readings only, assumes (or confirms) the one permissible reading, explains why none can be done, or says a reference is unresolved.",
+    request_body(content = ClarifyBody, example = json!(doc::vase_request())),
+    responses(
+        (status = 200, description = "The decision, its words and every reading considered", body = DecisionDto, example = json!(doc::vase_response())),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
+         example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "no object `object9` in the scene", "field": "/directive/arguments/0/id"})),
+        (status = 503, description = "The norms cannot be read: no decision is made (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+    ))]
 async fn clarify(
     State(app): State<AppState>,
     JsonBody(body): JsonBody<ClarifyBody>,

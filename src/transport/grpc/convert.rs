@@ -1,0 +1,252 @@
+//! Proto messages to and from the REST body types, field for field.
+//!
+//! Must not: check anything the REST path checks; only what proto3 cannot say the same way
+//! (a fixed-length list, an absent message) is caught here, with the same field pointers.
+
+use std::collections::BTreeMap;
+
+use super::pb;
+use crate::api::{
+    AgentBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, NormBody, NormDto, ObjectBody,
+    OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody, SinglePermissibleBody, StrategyBody,
+};
+use crate::error::Error;
+
+fn missing(field: &str) -> Error {
+    let name = field.rsplit('/').next().unwrap_or(field);
+    Error::invalid(field, format!("missing field `{name}`"))
+}
+
+/// A repeated double that stands for a fixed-length JSON array.
+fn fixed<const N: usize>(field: &str, values: Vec<f64>) -> Result<[f64; N], Error> {
+    let count = values.len();
+    <[f64; N]>::try_from(values).map_err(|_| Error::invalid(field, format!("expected {N} numbers, got {count}")))
+}
+
+fn word<T>(
+    field: &str,
+    value: Option<String>,
+    parse: fn(&str) -> Option<T>,
+    expected: &str,
+) -> Result<Option<T>, Error> {
+    value
+        .map(|text| {
+            parse(&text).ok_or_else(|| Error::invalid(field, format!("unknown variant `{text}`, expected {expected}")))
+        })
+        .transpose()
+}
+
+impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
+    type Error = Error;
+
+    fn try_from(request: pb::ClarifyRequest) -> Result<Self, Error> {
+        let directive = request.directive.ok_or_else(|| missing("/directive"))?;
+        let scene = request.scene.ok_or_else(|| missing("/scene"))?;
+        let options = request
+            .options
+            .map(|o| -> Result<OptionsBody, Error> {
+                Ok(OptionsBody {
+                    strategy: word(
+                        "/options/strategy",
+                        o.strategy,
+                        |t| match t {
+                            "moral" => Some(StrategyBody::Moral),
+                            "reflexive" => Some(StrategyBody::Reflexive),
+                            _ => None,
+                        },
+                        "`moral` or `reflexive`",
+                    )?,
+                    single_permissible: word(
+                        "/options/single_permissible",
+                        o.single_permissible,
+                        |t| match t {
+                            "assume" => Some(SinglePermissibleBody::Assume),
+                            "confirm" => Some(SinglePermissibleBody::Confirm),
+                            _ => None,
+                        },
+                        "`assume` or `confirm`",
+                    )?,
+                })
+            })
+            .transpose()?;
+        Ok(ClarifyBody {
+            speaker: request.speaker,
+            directive: directive.into(),
+            scene: scene.try_into()?,
+            context: request.context,
+            options,
+        })
+    }
+}
+
+impl From<pb::Directive> for DirectiveBody {
+    fn from(d: pb::Directive) -> Self {
+        let bindings = (!d.bindings.is_empty()).then(|| {
+            d.bindings
+                .into_iter()
+                .map(|(variable, list)| {
+                    let candidates = list
+                        .candidates
+                        .into_iter()
+                        .map(|c| match c.score {
+                            None => BindingBody::Id(c.id),
+                            Some(score) => BindingBody::Scored { id: c.id, score },
+                        })
+                        .collect();
+                    (variable, candidates)
+                })
+                .collect()
+        });
+        DirectiveBody {
+            arguments: (d.action.is_some() || !d.arguments.is_empty())
+                .then(|| d.arguments.into_iter().map(ReferenceBody::from).collect()),
+            action: d.action,
+            form: d.form,
+            bindings,
+            text: d.text,
+        }
+    }
+}
+
+impl From<pb::Reference> for ReferenceBody {
+    fn from(r: pb::Reference) -> Self {
+        ReferenceBody {
+            id: r.id,
+            kind: r.r#type,
+            attributes: (!r.attributes.is_empty())
+                .then(|| r.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
+            properties: (!r.properties.is_empty()).then_some(r.properties),
+        }
+    }
+}
+
+impl TryFrom<pb::Scene> for SceneBody {
+    type Error = Error;
+
+    fn try_from(scene: pb::Scene) -> Result<Self, Error> {
+        let agent = scene.agent.ok_or_else(|| missing("/scene/agent"))?;
+        let objects = scene
+            .objects
+            .into_iter()
+            .enumerate()
+            .map(|(i, o)| object(&format!("/scene/objects/{i}"), o))
+            .collect::<Result<_, _>>()?;
+        Ok(SceneBody {
+            agent: AgentBody {
+                id: agent.id,
+                position: fixed("/scene/agent/position", agent.position)?,
+                reach: agent.reach,
+            },
+            objects,
+            facts: scene.facts,
+        })
+    }
+}
+
+fn object(at: &str, o: pb::Object) -> Result<ObjectBody, Error> {
+    let shape = match o.shape {
+        None => None,
+        Some(pb::Shape { kind: None }) => {
+            return Err(Error::invalid(
+                format!("{at}/shape"),
+                "expected one of `ball`, `cuboid`, `cylinder`",
+            ));
+        }
+        Some(pb::Shape { kind: Some(kind) }) => Some(match kind {
+            pb::shape::Kind::Ball(b) => ShapeBody::Ball { radius: b.radius },
+            pb::shape::Kind::Cuboid(c) => ShapeBody::Cuboid {
+                half_extents: fixed(&format!("{at}/shape/cuboid/half_extents"), c.half_extents)?,
+            },
+            pb::shape::Kind::Cylinder(c) => ShapeBody::Cylinder {
+                radius: c.radius,
+                half_height: c.half_height,
+            },
+        }),
+    };
+    let rotation = if o.rotation.is_empty() {
+        None
+    } else {
+        Some(fixed(&format!("{at}/rotation"), o.rotation)?)
+    };
+    Ok(ObjectBody {
+        position: fixed(&format!("{at}/position"), o.position)?,
+        id: o.id,
+        kind: o.r#type,
+        properties: o.properties,
+        attributes: o
+            .attributes
+            .into_iter()
+            .map(|(k, v)| (k, Scalar::Text(v)))
+            .collect::<BTreeMap<_, _>>(),
+        shape,
+        rotation,
+    })
+}
+
+impl From<DecisionDto> for pb::ClarifyResponse {
+    fn from(d: DecisionDto) -> Self {
+        pb::ClarifyResponse {
+            decision: d.decision,
+            utterance: d.utterance,
+            speech_act: d.speech_act,
+            goal: d.goal,
+            interpretations: d.interpretations.into_iter().map(Into::into).collect(),
+            norm_version: d.norm_version,
+            text: d.text,
+        }
+    }
+}
+
+impl From<InterpretationDto> for pb::Interpretation {
+    fn from(i: InterpretationDto) -> Self {
+        pb::Interpretation {
+            action: i.action,
+            description: i.description,
+            permissible: i.permissible,
+            feasible: i.feasible,
+            reasons: i.reasons.into_iter().map(Into::into).collect(),
+            plan: i.plan,
+            score: i.score,
+        }
+    }
+}
+
+impl From<ReasonDto> for pb::Reason {
+    fn from(r: ReasonDto) -> Self {
+        pb::Reason {
+            kind: r.kind,
+            detail: r.detail,
+            norm_id: r.norm_id,
+            severity: r.severity.map(u32::from),
+        }
+    }
+}
+
+impl From<pb::CreateNormRequest> for NormBody {
+    fn from(n: pb::CreateNormRequest) -> Self {
+        NormBody {
+            kind: n.kind,
+            action: n.action,
+            state: n.state,
+            when: (!n.when.is_empty()).then_some(n.when),
+            context: n.context,
+            severity: n.severity,
+            note: n.note,
+        }
+    }
+}
+
+impl From<NormDto> for pb::Norm {
+    fn from(n: NormDto) -> Self {
+        pb::Norm {
+            id: n.id,
+            kind: n.kind,
+            action: n.action,
+            state: n.state,
+            when: n.when,
+            context: n.context,
+            severity: u32::from(n.severity),
+            note: n.note,
+        }
+    }
+}

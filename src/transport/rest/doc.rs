@@ -1,0 +1,82 @@
+//! The OpenAPI document's frame: title, tags, the admin-token scheme, and the paper's example.
+//!
+//! Must not: list operations by hand; they come from the routes themselves (`routes!`).
+
+use serde::Serialize;
+use serde_json::{Value, json};
+use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
+use utoipa::{Modify, OpenApi, ToSchema};
+
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "Scruple",
+        description = "Morally sensitive clarification of ambiguous robot directives: every reading is simulated against the norms and the robot's abilities before anything is asked, assumed or explained. Errors are application/problem+json (RFC 9457) with `field`, a JSON Pointer, where a field is at fault.",
+        license(name = "Apache-2.0", identifier = "Apache-2.0"),
+    ),
+    tags(
+        (name = "clarify", description = "Decisions about directives"),
+        (name = "norms", description = "The norms every decision is checked against; writes need the admin token when one is set"),
+        (name = "service", description = "Health"),
+    ),
+    modifiers(&AdminToken),
+)]
+pub struct ApiDoc;
+
+/// `Authorization: Bearer TOKEN`, required on writes when the service runs with `--admin-token`.
+struct AdminToken;
+
+impl Modify for AdminToken {
+    fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
+        let components = openapi.components.get_or_insert_with(Default::default);
+        components.add_security_scheme(
+            "admin_token",
+            SecurityScheme::Http(HttpBuilder::new().scheme(HttpAuthScheme::Bearer).build()),
+        );
+    }
+}
+
+/// The readiness answer.
+#[derive(Serialize, ToSchema)]
+pub struct Health {
+    /// Always `ok` when the status is 200.
+    pub status: String,
+}
+
+/// The paper's "Get the vase." request.
+pub fn vase_request() -> Value {
+    let vase = |id: &str, y: f64| {
+        json!({"id": id, "type": "vase", "position": [0.6, y, 0.85],
+               "shape": {"cylinder": {"radius": 0.06, "half_height": 0.1}}})
+    };
+    let mut fragile = vase("object3", 0.15);
+    fragile["properties"] = json!(["fragile"]);
+    let mut plastic = vase("object4", 0.35);
+    plastic["attributes"] = json!({"material": "plastic"});
+    json!({
+        "speaker": "human",
+        "directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."},
+        "scene": {"agent": {"id": "self", "position": [0.0, 0.0, 0.75], "reach": 0.9}, "objects": [fragile, plastic]},
+        "context": "default",
+        "options": {"strategy": "moral", "single_permissible": "assume"}
+    })
+}
+
+/// The answer to [`vase_request`] under the paper's norms.
+pub fn vase_response() -> Value {
+    json!({
+        "decision": "assume",
+        "utterance": "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+        "speech_act": "assume(self,mean(human,did(self,get(object4))))",
+        "goal": "did(self,get(object4))",
+        "interpretations": [
+            {"action": "did(self,get(object3))", "description": "the fragile vase", "permissible": false, "feasible": true,
+             "reasons": [{"kind": "forbidden_state", "detail": "did(self,get(object3))", "norm_id": 2, "severity": 3}],
+             "plan": ["get(object3)"], "score": 1.0},
+            {"action": "did(self,get(object4))", "description": "the plastic vase", "permissible": true, "feasible": true,
+             "reasons": [], "plan": ["get(object4)"], "score": 1.0}
+        ],
+        "norm_version": 3,
+        "text": "Get the vase."
+    })
+}

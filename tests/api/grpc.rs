@@ -1,0 +1,360 @@
+//! gRPC on the same port as REST: the same decisions, the same errors, health and reflection.
+
+use std::collections::HashMap;
+
+use reqwest::StatusCode;
+use scruple::transport::grpc::pb;
+use scruple::transport::grpc::pb::clarifier_client::ClarifierClient;
+use scruple::transport::grpc::pb::norms_client::NormsClient;
+use serde_json::{Value, json};
+use tonic::Code;
+use tonic::transport::Channel;
+
+use crate::helpers::{Options, TestApp, assert_problem, get_vase, lab_scene, paper_demo, spawn_app, spawn_with};
+
+async fn channel(app: &TestApp) -> Channel {
+    Channel::from_shared(app.base.clone())
+        .unwrap()
+        .connect()
+        .await
+        .expect("gRPC connects to the REST port")
+}
+
+fn strings(v: &Value) -> Vec<String> {
+    v.as_array()
+        .map(|a| a.iter().map(|s| s.as_str().unwrap().to_owned()).collect())
+        .unwrap_or_default()
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .map(|a| a.iter().map(|n| n.as_f64().unwrap()).collect())
+        .unwrap_or_default()
+}
+
+fn string_map(v: &Value) -> HashMap<String, String> {
+    v.as_object()
+        .map(|m| {
+            m.iter()
+                .map(|(k, v)| (k.clone(), v.as_str().unwrap().to_owned()))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+fn opt(v: &Value) -> Option<String> {
+    v.as_str().map(str::to_owned)
+}
+
+/// The REST JSON of a clarify request, as the same proto message a gRPC client would build.
+fn clarify_request(body: &Value) -> pb::ClarifyRequest {
+    let directive = &body["directive"];
+    let scene = &body["scene"];
+    let objects = scene["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| pb::Object {
+            id: o["id"].as_str().unwrap().to_owned(),
+            r#type: o["type"].as_str().unwrap().to_owned(),
+            properties: strings(&o["properties"]),
+            attributes: string_map(&o["attributes"]),
+            position: numbers(&o["position"]),
+            shape: o.get("shape").map(|s| pb::Shape {
+                kind: Some(if let Some(c) = s.get("cylinder") {
+                    pb::shape::Kind::Cylinder(pb::Cylinder {
+                        radius: c["radius"].as_f64().unwrap(),
+                        half_height: c["half_height"].as_f64().unwrap(),
+                    })
+                } else if let Some(c) = s.get("cuboid") {
+                    pb::shape::Kind::Cuboid(pb::Cuboid {
+                        half_extents: numbers(&c["half_extents"]),
+                    })
+                } else {
+                    pb::shape::Kind::Ball(pb::Ball {
+                        radius: s["ball"]["radius"].as_f64().unwrap(),
+                    })
+                }),
+            }),
+            rotation: numbers(&o["rotation"]),
+        })
+        .collect();
+    let bindings = directive["bindings"]
+        .as_object()
+        .map(|m| {
+            m.iter()
+                .map(|(variable, list)| {
+                    let candidates = list
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|c| match c.as_str() {
+                            Some(id) => pb::Candidate {
+                                id: id.to_owned(),
+                                score: None,
+                            },
+                            None => pb::Candidate {
+                                id: c["id"].as_str().unwrap().to_owned(),
+                                score: c["score"].as_f64(),
+                            },
+                        })
+                        .collect();
+                    (variable.clone(), pb::Candidates { candidates })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    pb::ClarifyRequest {
+        speaker: opt(&body["speaker"]),
+        directive: Some(pb::Directive {
+            action: opt(&directive["action"]),
+            arguments: directive["arguments"]
+                .as_array()
+                .map(|args| {
+                    args.iter()
+                        .map(|r| pb::Reference {
+                            id: opt(&r["id"]),
+                            r#type: opt(&r["type"]),
+                            attributes: string_map(&r["attributes"]),
+                            properties: strings(&r["properties"]),
+                        })
+                        .collect()
+                })
+                .unwrap_or_default(),
+            form: opt(&directive["form"]),
+            bindings,
+            text: opt(&directive["text"]),
+        }),
+        scene: Some(pb::Scene {
+            agent: Some(pb::Agent {
+                id: opt(&scene["agent"]["id"]),
+                position: numbers(&scene["agent"]["position"]),
+                reach: scene["agent"]["reach"].as_f64().unwrap(),
+            }),
+            objects,
+            facts: strings(&scene["facts"]),
+        }),
+        context: opt(&body["context"]),
+        options: body.get("options").map(|o| pb::Options {
+            strategy: opt(&o["strategy"]),
+            single_permissible: opt(&o["single_permissible"]),
+        }),
+    }
+}
+
+/// A gRPC answer in the REST answer's JSON shape, to compare the two field for field.
+fn as_rest_json(r: pb::ClarifyResponse) -> Value {
+    let interpretations: Vec<Value> = r
+        .interpretations
+        .into_iter()
+        .map(|i| {
+            let reasons: Vec<Value> = i
+                .reasons
+                .into_iter()
+                .map(|reason| {
+                    let mut v = json!({"kind": reason.kind, "detail": reason.detail});
+                    if let Some(id) = reason.norm_id {
+                        v["norm_id"] = json!(id);
+                    }
+                    if let Some(severity) = reason.severity {
+                        v["severity"] = json!(severity);
+                    }
+                    v
+                })
+                .collect();
+            json!({"action": i.action, "description": i.description, "permissible": i.permissible,
+                   "feasible": i.feasible, "reasons": reasons, "plan": i.plan, "score": i.score})
+        })
+        .collect();
+    let mut v = json!({"decision": r.decision, "utterance": r.utterance, "speech_act": r.speech_act,
+                       "goal": r.goal, "interpretations": interpretations, "norm_version": r.norm_version});
+    if let Some(text) = r.text {
+        v["text"] = json!(text);
+    }
+    v
+}
+
+fn norm_request(norm: &Value) -> pb::CreateNormRequest {
+    pb::CreateNormRequest {
+        kind: opt(&norm["kind"]),
+        action: opt(&norm["action"]),
+        state: opt(&norm["state"]),
+        when: strings(&norm["when"]),
+        context: opt(&norm["context"]),
+        severity: norm["severity"].as_i64(),
+        note: opt(&norm["note"]),
+    }
+}
+
+#[tokio::test]
+async fn every_paper_case_gives_the_same_answer_over_grpc_as_over_rest() {
+    let app = spawn_app().await;
+    let channel = channel(&app).await;
+    let mut norms = NormsClient::new(channel.clone());
+    let mut clarifier = ClarifierClient::new(channel);
+    let demo = paper_demo();
+    // Norms added over gRPC are the norms REST decides under: one store, one core.
+    for norm in demo["norms"].as_array().unwrap() {
+        norms
+            .create_norm(norm_request(norm))
+            .await
+            .expect("norm created over gRPC");
+    }
+    assert_eq!(app.norms().await.len(), 3);
+    for case in demo["cases"].as_array().unwrap() {
+        let mut directive = case["directive"].clone();
+        directive["text"] = case["text"].clone();
+        let mut body = json!({"directive": directive, "scene": demo["scenes"][case["scene"].as_str().unwrap()]});
+        if let Some(options) = case.get("options") {
+            body["options"] = options.clone();
+        }
+        let rest = app.clarify(&body).await;
+        let grpc = as_rest_json(
+            clarifier
+                .clarify(clarify_request(&body))
+                .await
+                .expect("clarify over gRPC")
+                .into_inner(),
+        );
+        assert_eq!(grpc, rest, "{}", case["name"]);
+        for (key, expected) in case["expect"].as_object().unwrap() {
+            assert_eq!(&grpc[key], expected, "{}: {key}", case["name"]);
+        }
+    }
+}
+
+#[tokio::test]
+async fn errors_carry_the_same_code_and_field_on_both_transports() {
+    let app = spawn_with(Options {
+        admin_token: Some("s3cret".into()),
+        ..Options::default()
+    })
+    .await;
+    let channel = channel(&app).await;
+    let mut clarifier = ClarifierClient::new(channel.clone());
+    let mut norms = NormsClient::new(channel);
+
+    // Invalid input: 422 naming the field / INVALID_ARGUMENT naming the same field.
+    let mut bad = get_vase();
+    bad["directive"]["arguments"] = json!([{"id": "object9"}]);
+    assert_problem(
+        app.post("/v1/clarify", &bad).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/directive/arguments/0/id"),
+    )
+    .await;
+    let status = clarifier.clarify(clarify_request(&bad)).await.unwrap_err();
+    assert_eq!(status.code(), Code::InvalidArgument);
+    assert!(
+        status.message().starts_with("/directive/arguments/0/id: "),
+        "{}",
+        status.message()
+    );
+    assert_eq!(status.metadata().get("field").unwrap(), "/directive/arguments/0/id");
+
+    // A message proto3 cannot leave out on the REST side is missing: the same pointer.
+    let mut no_scene = clarify_request(&get_vase());
+    no_scene.scene = None;
+    let status = clarifier.clarify(no_scene).await.unwrap_err();
+    assert_eq!(status.code(), Code::InvalidArgument);
+    assert_eq!(status.metadata().get("field").unwrap(), "/scene");
+
+    // Not found: 404 / NOT_FOUND.
+    assert_problem(app.get("/v1/norms/999").await, StatusCode::NOT_FOUND, None).await;
+    let status = norms.get_norm(pb::GetNormRequest { id: 999 }).await.unwrap_err();
+    assert_eq!(status.code(), Code::NotFound);
+
+    // Missing and wrong token: 401 / UNAUTHENTICATED and 403 / PERMISSION_DENIED; nothing stored.
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    assert_problem(app.post("/v1/norms", &norm).await, StatusCode::UNAUTHORIZED, None).await;
+    let status = norms.create_norm(norm_request(&norm)).await.unwrap_err();
+    assert_eq!(status.code(), Code::Unauthenticated);
+    let mut wrong = tonic::Request::new(norm_request(&norm));
+    wrong
+        .metadata_mut()
+        .insert("authorization", "Bearer guess".parse().unwrap());
+    assert_eq!(
+        norms.create_norm(wrong).await.unwrap_err().code(),
+        Code::PermissionDenied
+    );
+    let status = norms.delete_norm(pb::DeleteNormRequest { id: 1 }).await.unwrap_err();
+    assert_eq!(status.code(), Code::Unauthenticated);
+    assert!(app.norms().await.is_empty());
+
+    // With the token, the write goes through, and a bad norm is INVALID_ARGUMENT naming its field.
+    let mut right = tonic::Request::new(norm_request(&norm));
+    right
+        .metadata_mut()
+        .insert("authorization", "Bearer s3cret".parse().unwrap());
+    let created = norms
+        .create_norm(right)
+        .await
+        .expect("created with the token")
+        .into_inner();
+    assert_eq!(
+        (created.kind.as_str(), created.action.as_deref(), created.severity),
+        ("forbidden_action", Some("destroy"), 3)
+    );
+    let mut bad_norm = tonic::Request::new(norm_request(
+        &json!({"kind": "forbidden_action", "action": "destroy", "severity": 9}),
+    ));
+    bad_norm
+        .metadata_mut()
+        .insert("authorization", "Bearer s3cret".parse().unwrap());
+    let status = norms.create_norm(bad_norm).await.unwrap_err();
+    assert_eq!(status.code(), Code::InvalidArgument);
+    assert_eq!(status.metadata().get("field").unwrap(), "/severity");
+    let listed = norms
+        .list_norms(pb::ListNormsRequest {})
+        .await
+        .unwrap()
+        .into_inner()
+        .norms;
+    assert_eq!(listed, vec![created.clone()]);
+    let mut delete = tonic::Request::new(pb::DeleteNormRequest { id: created.id });
+    delete
+        .metadata_mut()
+        .insert("authorization", "Bearer s3cret".parse().unwrap());
+    norms.delete_norm(delete).await.expect("deleted with the token");
+    assert!(app.norms().await.is_empty());
+}
+
+#[tokio::test]
+async fn health_reports_serving_for_the_server_and_each_service() {
+    let app = spawn_app().await;
+    let mut health = tonic_health::pb::health_client::HealthClient::new(channel(&app).await);
+    for service in ["", "scruple.v1.Clarifier", "scruple.v1.Norms"] {
+        let answer = health
+            .check(tonic_health::pb::HealthCheckRequest {
+                service: service.to_owned(),
+            })
+            .await
+            .unwrap()
+            .into_inner();
+        assert_eq!(
+            answer.status(),
+            tonic_health::pb::health_check_response::ServingStatus::Serving,
+            "{service:?}"
+        );
+    }
+}
+
+#[tokio::test]
+async fn rest_keeps_its_own_404_beside_grpc_and_unknown_grpc_methods_are_unimplemented() {
+    let app = spawn_app().await;
+    let problem = assert_problem(app.get("/v1/unknown").await, StatusCode::NOT_FOUND, None).await;
+    assert_eq!(problem["type"], "/problems/no-route");
+    // A known gRPC service with an unknown method: tonic answers UNIMPLEMENTED.
+    let mut client = tonic::client::Grpc::new(channel(&app).await);
+    client.ready().await.unwrap();
+    let codec = tonic_prost::ProstCodec::<pb::ListNormsRequest, pb::ListNormsResponse>::default();
+    let path = "/scruple.v1.Norms/Nonexistent".parse().unwrap();
+    let status = client
+        .unary(tonic::Request::new(pb::ListNormsRequest {}), path, codec)
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), Code::Unimplemented);
+    // And the lab scene's REST body works for the REST route still.
+    let lab = json!({"directive": {"action": "get", "arguments": [{"type": "mug"}]}, "scene": lab_scene()});
+    assert_eq!(app.clarify(&lab).await["decision"], "comply");
+}
