@@ -11,11 +11,12 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::engine::clarify::{
-    Candidate, Decision, Directive, Interpretation, Options, Reference, Request, SinglePermissible, Strategy,
+    Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
+    Reference, Request, SinglePermissible, Strategy,
 };
 use crate::engine::norms::{Norm, NormInput, NormKind};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
-use crate::engine::simulate::Reason;
+use crate::engine::speech::Style;
 use crate::engine::term::{Sym, Term, is_constant_name};
 use crate::error::Error;
 
@@ -96,6 +97,10 @@ pub struct NormBody {
     pub context: Option<String>,
     pub severity: Option<i64>,
     pub note: Option<String>,
+    /// When given, the norm applies only to speakers with one of these roles.
+    pub roles: Option<Vec<String>>,
+    /// The norm does not apply to speakers with any of these roles.
+    pub exempt_roles: Option<Vec<String>>,
 }
 
 impl NormBody {
@@ -108,6 +113,8 @@ impl NormBody {
             context: self.context,
             severity: self.severity,
             note: self.note,
+            roles: self.roles,
+            exempt_roles: self.exempt_roles,
         }
     }
 }
@@ -127,6 +134,10 @@ pub struct NormDto {
     pub severity: u8,
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub note: Option<String>,
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub roles: Vec<String>,
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub exempt_roles: Vec<String>,
 }
 
 impl From<&Norm> for NormDto {
@@ -145,6 +156,8 @@ impl From<&Norm> for NormDto {
             context: norm.spec.context.clone(),
             severity: norm.spec.severity,
             note: norm.spec.note.clone(),
+            roles: norm.spec.roles.clone(),
+            exempt_roles: norm.spec.exempt_roles.clone(),
         }
     }
 }
@@ -166,6 +179,25 @@ pub struct ClarifyBody {
     pub context: Option<String>,
     #[serde(default)]
     pub options: Option<OptionsBody>,
+    /// The speaker's roles (`owner`): with `context`, they select the norms in force.
+    #[serde(default)]
+    pub speaker_roles: Option<Vec<String>>,
+    /// The human's answer to the question this request's directive led to.
+    #[serde(default)]
+    pub answer: Option<AnswerBody>,
+}
+
+/// A follow-up: exactly one of `choice` (the position, from 0, among the readings the question
+/// named: the `offered` of the answer to the original request), `id`, or `reference`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AnswerBody {
+    #[serde(default)]
+    pub choice: Option<u64>,
+    #[serde(default)]
+    pub id: Option<String>,
+    #[serde(default)]
+    pub reference: Option<ReferenceBody>,
 }
 
 /// Either `action` + `arguments` or `form` + `bindings`; `text` is the human's words, echoed.
@@ -287,6 +319,30 @@ pub struct OptionsBody {
     pub strategy: Option<StrategyBody>,
     #[serde(default)]
     pub single_permissible: Option<SinglePermissibleBody>,
+    /// `diarc` (default, the paper's words) or `natural`.
+    #[serde(default)]
+    pub style: Option<StyleBody>,
+    /// Most readings a question names (2..=50, default 5).
+    #[serde(default)]
+    pub max_spoken: Option<u64>,
+    /// Most readings simulated (1..=100000, default 10000).
+    #[serde(default)]
+    pub max_readings: Option<u64>,
+    /// Milliseconds the decision may take (1..=60000, default 2000); past it, what is not yet
+    /// simulated is not offered and the answer says the deadline was hit.
+    #[serde(default)]
+    pub deadline_ms: Option<u64>,
+    /// Confirm instead of assuming when the share of unacceptable readings is above this
+    /// (0 ≤ ratio < 1). Absent: Algorithm 1's assumption.
+    #[serde(default)]
+    pub confirm_above_ratio: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum StyleBody {
+    Diarc,
+    Natural,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, ToSchema)]
@@ -310,6 +366,63 @@ pub struct ClarifyInput {
     pub scene: Scene,
     /// The human's words, echoed back for logs.
     pub text: Option<String>,
+    /// How long the decision may take.
+    pub deadline: std::time::Duration,
+}
+
+pub const DEFAULT_DEADLINE_MS: u64 = 2_000;
+
+/// A number option within its range, or an error naming it.
+fn ranged(field: &str, value: Option<u64>, range: std::ops::RangeInclusive<u64>, default: u64) -> Result<u64, Error> {
+    match value {
+        None => Ok(default),
+        Some(v) if range.contains(&v) => Ok(v),
+        Some(v) => Err(Error::invalid(
+            field,
+            format!("{v} is out of range {}..={}", range.start(), range.end()),
+        )),
+    }
+}
+
+fn roles_of(roles: Option<Vec<String>>) -> Result<Vec<String>, Error> {
+    let roles = roles.unwrap_or_default();
+    if roles.len() > 16 {
+        return Err(Error::invalid("/speaker_roles", "at most 16 roles"));
+    }
+    for (i, role) in roles.iter().enumerate() {
+        if role.is_empty()
+            || role.len() > MAX_NAME_LEN
+            || !role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            return Err(Error::invalid(
+                format!("/speaker_roles/{i}"),
+                format!("`{role}` is not a role name (letters, digits, `_`, `-`)"),
+            ));
+        }
+    }
+    Ok(roles)
+}
+
+impl AnswerBody {
+    fn into_answer(self, scene: &Scene) -> Result<Answer, Error> {
+        match (self.choice, self.id, self.reference) {
+            (Some(choice), None, None) => Ok(Answer::Choice(usize::try_from(choice).unwrap_or(usize::MAX))),
+            (None, Some(id), None) => {
+                if scene.object(&id).is_none() {
+                    return Err(Error::invalid("/answer/id", format!("no object `{id}` in the scene")));
+                }
+                Ok(Answer::Id(id))
+            }
+            (None, None, Some(reference)) => match reference.into_reference("/answer/reference", scene)? {
+                Reference::Id(id) => Ok(Answer::Id(id)),
+                described => Ok(Answer::Reference(described)),
+            },
+            _ => Err(Error::invalid(
+                "/answer",
+                "give exactly one of `choice`, `id`, `reference`",
+            )),
+        }
+    }
 }
 
 const MAX_NAME_LEN: usize = 128;
@@ -622,8 +735,24 @@ impl TryFrom<ClarifyBody> for ClarifyInput {
         let scene = body.scene.into_scene()?;
         let text = body.directive.text.clone();
         let (directive, form_speaker) = body.directive.into_directive(&scene)?;
+        let speaker_roles = roles_of(body.speaker_roles)?;
+        let answer = body.answer.map(|a| a.into_answer(&scene)).transpose()?;
         let options = body.options.unwrap_or_default();
-        let options = Options {
+        if let Some(ratio) = options.confirm_above_ratio
+            && !(ratio.is_finite() && (0.0..1.0).contains(&ratio))
+        {
+            return Err(Error::invalid(
+                "/options/confirm_above_ratio",
+                "must be a ratio with 0 ≤ ratio < 1",
+            ));
+        }
+        let deadline_ms = ranged(
+            "/options/deadline_ms",
+            options.deadline_ms,
+            1..=60_000,
+            DEFAULT_DEADLINE_MS,
+        )?;
+        let engine_options = Options {
             strategy: match options.strategy {
                 None | Some(StrategyBody::Moral) => Strategy::Moral,
                 Some(StrategyBody::Reflexive) => Strategy::Reflexive,
@@ -632,16 +761,36 @@ impl TryFrom<ClarifyBody> for ClarifyInput {
                 None | Some(SinglePermissibleBody::Assume) => SinglePermissible::Assume,
                 Some(SinglePermissibleBody::Confirm) => SinglePermissible::Confirm,
             },
+            style: match options.style {
+                None | Some(StyleBody::Diarc) => Style::Diarc,
+                Some(StyleBody::Natural) => Style::Natural,
+            },
+            max_spoken: ranged(
+                "/options/max_spoken",
+                options.max_spoken,
+                2..=50,
+                DEFAULT_MAX_SPOKEN as u64,
+            )? as usize,
+            max_readings: ranged(
+                "/options/max_readings",
+                options.max_readings,
+                1..=100_000,
+                DEFAULT_MAX_READINGS as u64,
+            )? as usize,
+            confirm_above_ratio: options.confirm_above_ratio,
         };
         Ok(ClarifyInput {
             request: Request {
                 speaker: form_speaker.unwrap_or_else(|| Sym::from(speaker)),
+                speaker_roles,
                 directive,
                 context,
-                options,
+                options: engine_options,
+                answer,
             },
             scene,
             text,
+            deadline: std::time::Duration::from_millis(deadline_ms),
         })
     }
 }
@@ -658,17 +807,8 @@ pub struct ReasonDto {
     /// The norm's severity, 1..5, for a `forbidden_*` reason.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub severity: Option<u8>,
-}
-
-impl From<&Reason> for ReasonDto {
-    fn from(reason: &Reason) -> Self {
-        ReasonDto {
-            kind: reason.kind().to_owned(),
-            detail: reason.detail(),
-            norm_id: reason.norm_id,
-            severity: reason.severity,
-        }
-    }
+    /// The reason in words, in the request's style ("it requires a forbidden state").
+    pub words: String,
 }
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
@@ -690,7 +830,19 @@ impl From<&Interpretation> for InterpretationDto {
             description: i.description.clone(),
             permissible: i.permissible(),
             feasible: i.feasible(),
-            reasons: i.outcome.reasons.iter().map(ReasonDto::from).collect(),
+            reasons: i
+                .outcome
+                .reasons
+                .iter()
+                .zip(&i.reason_words)
+                .map(|(reason, words)| ReasonDto {
+                    kind: reason.kind().to_owned(),
+                    detail: reason.detail(),
+                    norm_id: reason.norm_id,
+                    severity: reason.severity,
+                    words: words.clone(),
+                })
+                .collect(),
             plan: i.outcome.plan.iter().map(Term::to_string).collect(),
             score: i.score,
         }
@@ -704,11 +856,37 @@ pub struct DecisionDto {
     pub speech_act: String,
     pub goal: Option<String>,
     pub interpretations: Vec<InterpretationDto>,
+    /// The readings the utterance proposes, in order: those a question names (a follow-up's
+    /// `choice` counts from 0 among them), or the one assumed, confirmed or obeyed.
+    pub offered: Vec<String>,
+    /// Present when a cap or the deadline kept readings from being simulated.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub limits: Option<LimitsDto>,
     /// The version of the norm set this decision was made under.
     pub norm_version: i64,
     /// The human's words, as sent in `directive.text`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub text: Option<String>,
+}
+
+/// Which limit was hit, and how much of the directive was simulated.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct LimitsDto {
+    /// `too_many_readings` (more than `options.max_readings`: none simulated) or `deadline`.
+    pub reason: String,
+    /// How many readings the directive has (saturating at the largest 64-bit number).
+    pub readings: u64,
+    pub simulated: u64,
+}
+
+impl From<&Limits> for LimitsDto {
+    fn from(l: &Limits) -> Self {
+        LimitsDto {
+            reason: l.kind.as_str().to_owned(),
+            readings: u64::try_from(l.readings).unwrap_or(u64::MAX),
+            simulated: l.simulated as u64,
+        }
+    }
 }
 
 impl DecisionDto {
@@ -719,6 +897,8 @@ impl DecisionDto {
             speech_act: decision.speech_act.to_string(),
             goal: decision.goal.as_ref().map(Term::to_string),
             interpretations: decision.interpretations.iter().map(InterpretationDto::from).collect(),
+            offered: decision.offered.iter().map(Term::to_string).collect(),
+            limits: decision.limits.as_ref().map(LimitsDto::from),
             norm_version: decision.norm_version,
             text,
         }

@@ -5,6 +5,7 @@
 //! closed when the norms cannot be read. Must not: parse wire formats or know which transport asked.
 
 use std::sync::{Arc, RwLock};
+use std::time::Instant;
 
 use crate::api::ClarifyInput;
 use crate::engine::Library;
@@ -15,7 +16,7 @@ use crate::storage::NormStore;
 
 pub struct Core {
     store: Arc<dyn NormStore>,
-    library: Library,
+    library: Arc<Library>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
 }
@@ -24,7 +25,7 @@ impl Core {
     pub fn new(store: Arc<dyn NormStore>) -> Core {
         Core {
             store,
-            library: Library::default_library(),
+            library: Arc::new(Library::default_library()),
             compiled: RwLock::new(None),
         }
     }
@@ -50,9 +51,19 @@ impl Core {
     }
 
     /// Decides what to say about a directive. Fails closed: without readable norms, no decision.
-    pub async fn clarify(&self, input: &ClarifyInput) -> Result<Decision, Error> {
+    /// The engine runs on the blocking pool, so a large request does not stall other requests;
+    /// its deadline counts from here.
+    pub async fn clarify(&self, input: ClarifyInput) -> Result<Decision, Error> {
+        let deadline = Instant::now() + input.deadline;
         let norms = self.norms().await?;
-        Ok(clarify(&input.request, &input.scene, &norms, &self.library)?)
+        let library = self.library.clone();
+        let decision = tokio::task::spawn_blocking(move || {
+            let expired = || Instant::now() >= deadline;
+            clarify(&input.request, &input.scene, &norms, &library, &expired)
+        })
+        .await
+        .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??;
+        Ok(decision)
     }
 
     /// Validates and stores a norm; nothing is written unless every field is valid.

@@ -155,7 +155,8 @@ impl Error {
 impl From<EngineError> for Error {
     fn from(e: EngineError) -> Self {
         match e {
-            EngineError::TooManyReadings { .. } => Error::invalid("/directive", e.to_string()),
+            EngineError::BadChoice { .. } => Error::invalid("/answer/choice", e.to_string()),
+            EngineError::NothingAsked { .. } => Error::invalid("/answer", e.to_string()),
         }
     }
 }

@@ -1,23 +1,28 @@
-//! Algorithm 1 and the single-candidate cases: from a directive and a scene to a decision, its
-//! utterance and its speech act.
+//! Algorithm 1 and what the paper left open: from a directive and a scene to a decision.
 //!
-//! Owns: reference resolution, the readings (interpretations) and their order, the decision, and
-//! the `diarc`-style sentences. Must not: do I/O, or offer, assume, confirm or obey a reading that
-//! is impermissible or infeasible under the moral strategy.
+//! Owns: reference resolution, the readings (interpretations) and their order, follow-up answers,
+//! the caps on how many readings are simulated and named, and the decision as a `Plan`.
+//! Must not: do I/O or read a clock (the deadline arrives as a callback), word anything (that is
+//! `speech`), or offer, assume, confirm or obey a reading that is impermissible or infeasible
+//! under the moral strategy.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use super::action::Library;
 use super::describe::Describer;
-use super::norms::CompiledNorms;
+use super::norms::{CompiledNorms, Scope};
 use super::scene::{Object, Scene, spoken};
-use super::simulate::{Cause, Env, Outcome, Reason, did, simulate};
-use super::term::{Sym, Term};
+use super::simulate::{Env, Outcome, did, simulate};
+use super::speech::{self, Plan, Style};
+use super::term::{Subst, Sym, Term};
 use super::world::{Base, World};
 
-/// Readings beyond this many are not simulated: the request is refused as too ambiguous.
-pub const MAX_READINGS: usize = 10_000;
+/// Defaults of the options that bound a request's work and words.
+pub const DEFAULT_MAX_SPOKEN: usize = 5;
+pub const DEFAULT_MAX_READINGS: usize = 10_000;
+/// How many of the likeliest readings are named when there are too many to name them all.
+pub const FEW: usize = 3;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Strategy {
@@ -35,10 +40,32 @@ pub enum SinglePermissible {
     Confirm,
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     pub strategy: Strategy,
     pub single_permissible: SinglePermissible,
+    pub style: Style,
+    /// Most readings a question names; above it the question names the few likeliest and ends
+    /// "or something else", or names the ambiguous words.
+    pub max_spoken: usize,
+    /// Most readings simulated; above it nothing is simulated and the ambiguous words are named.
+    pub max_readings: usize,
+    /// When exactly one reading is acceptable and the share of the others is above this ratio,
+    /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
+    pub confirm_above_ratio: Option<f64>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            strategy: Strategy::Moral,
+            single_permissible: SinglePermissible::Assume,
+            style: Style::Diarc,
+            max_spoken: DEFAULT_MAX_SPOKEN,
+            max_readings: DEFAULT_MAX_READINGS,
+            confirm_above_ratio: None,
+        }
+    }
 }
 
 /// A reference to objects of the scene: by id, or by type, attributes and properties.
@@ -69,21 +96,30 @@ impl Reference {
         }
     }
 
-    /// The reference in words: "the spoon", "the blue notebook".
-    fn words(&self) -> String {
+    /// The reference in words: "the spoon", "the blue notebook", "the red one".
+    fn words(&self, scene: &Scene) -> String {
         match self {
-            Reference::Id(id) => id.clone(),
+            Reference::Id(id) => match scene.object(id) {
+                Some(object) => super::describe::describe_object(scene, object),
+                None => id.clone(),
+            },
             Reference::Described {
-                kind,
-                attributes,
-                properties,
+                attributes, properties, ..
             } => {
                 let mut words = vec!["the".to_owned()];
                 words.extend(properties.iter().map(|p| spoken(p)));
                 words.extend(attributes.values().map(|v| spoken(v)));
-                words.push(kind.as_deref().map(spoken).unwrap_or_else(|| "thing".to_owned()));
+                words.push(self.noun().unwrap_or_else(|| "one".to_owned()));
                 words.join(" ")
             }
+        }
+    }
+
+    /// The head noun: the type spoken, if the reference names one.
+    fn noun(&self) -> Option<String> {
+        match self {
+            Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
+            _ => None,
         }
     }
 }
@@ -107,12 +143,26 @@ pub enum Directive {
     },
 }
 
+/// The human's answer to a question the robot asked, sent with the original request.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Answer {
+    /// The position (from 0) of a reading among those the question named (`offered`).
+    Choice(usize),
+    /// An object of the scene: keeps the readings that involve it.
+    Id(String),
+    /// "the red one": keeps the readings with an argument that matches.
+    Reference(Reference),
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Request {
     pub speaker: Sym,
+    /// The speaker's roles (`owner`): with the context, they select the norms in force.
+    pub speaker_roles: Vec<String>,
     pub directive: Directive,
     pub context: String,
     pub options: Options,
+    pub answer: Option<Answer>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,6 +201,10 @@ pub struct Interpretation {
     pub reading: String,
     pub score: f64,
     pub outcome: Outcome,
+    /// Each reason of `outcome` in words, in the request's style.
+    pub reason_words: Vec<String>,
+    /// The value chosen for each slot (argument or variable), in slot order.
+    pub values: Vec<Term>,
 }
 
 impl Interpretation {
@@ -162,9 +216,37 @@ impl Interpretation {
         self.outcome.feasible()
     }
 
-    fn acceptable(&self) -> bool {
+    pub fn acceptable(&self) -> bool {
         self.permissible() && self.feasible()
     }
+}
+
+/// Why not every reading was simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitKind {
+    /// More readings than `max_readings`: none was simulated.
+    TooManyReadings,
+    /// The request's deadline passed before every reading was simulated.
+    Deadline,
+}
+
+impl LimitKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LimitKind::TooManyReadings => "too_many_readings",
+            LimitKind::Deadline => "deadline",
+        }
+    }
+}
+
+/// A limit that was hit: the answer says so rather than truncating silently.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    pub kind: LimitKind,
+    /// How many readings the directive has.
+    pub readings: u128,
+    /// How many were simulated.
+    pub simulated: usize,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -176,68 +258,31 @@ pub struct Decision {
     pub goal: Option<Term>,
     /// Every reading considered, in the contract's order.
     pub interpretations: Vec<Interpretation>,
+    /// The readings the utterance proposes, in order: those a question names (a follow-up's
+    /// `choice` counts from 0 among them), or the one assumed, confirmed or obeyed.
+    pub offered: Vec<Term>,
+    /// Set when a cap or the deadline kept readings from being simulated.
+    pub limits: Option<Limits>,
     /// The version of the norm set the decision was made under.
     pub norm_version: i64,
 }
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EngineError {
-    #[error("the directive has {count} readings; at most {limit} are simulated")]
-    TooManyReadings { count: u128, limit: usize },
+    #[error("choice {choice} is not among the {offered} readings the question named")]
+    BadChoice { choice: usize, offered: usize },
+    #[error("the original request asks nothing to choose from: it is decided `{decision}`")]
+    NothingAsked { decision: &'static str },
 }
 
-/// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
-pub fn clarify(
-    request: &Request,
-    scene: &Scene,
-    norms: &CompiledNorms,
-    library: &Library,
-) -> Result<Decision, EngineError> {
-    let speaker = Term::Const(request.speaker.clone());
-    let readings = match readings(&request.directive, scene)? {
-        Readings::Unresolved(words) => return Ok(unresolved(words, norms.version)),
-        Readings::Found(readings) => readings,
-    };
-    let base = Arc::new(Base::new(scene.all_facts()));
-    let world = World::new(base);
-    let env = Env {
-        scene,
-        norms,
-        library,
-        context: &request.context,
-    };
-    let mut describer = Describer::new(scene, library);
-    let mut interpretations: Vec<Interpretation> = readings
-        .into_iter()
-        .map(|(action, score)| Interpretation {
-            outcome: simulate(&env, &world, &action),
-            description: describer.arguments(&action),
-            reading: describer.reading(&action),
-            action: did(&action),
-            score,
-        })
-        .collect();
-    interpretations.sort_by(|a, b| {
-        b.score
-            .total_cmp(&a.score)
-            .then_with(|| a.description.as_bytes().cmp(b.description.as_bytes()))
-            .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
-    });
-    let mut decision = decide(&speaker, request.options, &interpretations, &mut describer);
-    decision.interpretations = interpretations;
-    decision.norm_version = norms.version;
-    Ok(decision)
+/// One argument (or variable) of the directive and its candidates.
+struct Slot {
+    candidates: Vec<(Term, f64)>,
+    /// The slot in words when nothing matches it ("the spoon").
+    words: String,
+    /// The slot's head noun when asking which one is meant ("spoon").
+    noun: String,
 }
-
-enum Readings {
-    /// The references that match nothing, in words.
-    Unresolved(Vec<String>),
-    /// Ground actions with their scores.
-    Found(Vec<(Term, f64)>),
-}
-
-/// One argument's (or variable's) candidates, each with its score.
-type Slot = Vec<(Term, f64)>;
 
 /// How one choice of candidates, one per slot, becomes an action.
 enum Template<'a> {
@@ -247,20 +292,50 @@ enum Template<'a> {
     Form(&'a Term, Vec<Sym>),
 }
 
-fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineError> {
-    // Each slot's candidates, with the words that name the slot if nothing matches it.
-    let (template, named): (Template<'_>, Vec<(Slot, String)>) = match directive {
+impl Template<'_> {
+    fn action(&self, values: &[Term]) -> Term {
+        match self {
+            Template::Verb(verb) => Term::compound(verb, values.to_vec()),
+            Template::Form(form, variables) => {
+                let mut subst = Subst::new();
+                for (variable, value) in variables.iter().zip(values) {
+                    subst.bind(variable.clone(), value.clone());
+                }
+                form.substitute(&subst)
+            }
+        }
+    }
+}
+
+/// The common type of some objects, spoken; "one" when they differ.
+fn common_noun<'a>(scene: &Scene, ids: impl Iterator<Item = &'a str>) -> String {
+    let mut kinds = ids.filter_map(|id| scene.object(id)).map(|o| o.kind.as_str());
+    match kinds.next() {
+        Some(first) if kinds.all(|k| k == first) => spoken(first),
+        _ => "one".to_owned(),
+    }
+}
+
+fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
+    match directive {
         Directive::Action { verb, arguments } => {
             let slots = arguments
                 .iter()
                 .map(|reference| {
-                    let found = scene
+                    let candidates: Vec<(Term, f64)> = scene
                         .objects
                         .iter()
                         .filter(|o| reference.matches(o))
                         .map(|o| (Term::constant(&o.id), 1.0))
                         .collect();
-                    (found, reference.words())
+                    let noun = reference.noun().unwrap_or_else(|| {
+                        common_noun(scene, candidates.iter().filter_map(|(t, _)| t.name().map(|n| &**n)))
+                    });
+                    Slot {
+                        candidates,
+                        words: reference.words(scene),
+                        noun,
+                    }
                 })
                 .collect();
             (Template::Verb(Sym::from(verb.as_str())), slots)
@@ -270,72 +345,49 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
             let slots = variables
                 .iter()
                 .map(|variable| {
-                    let candidates = bindings
+                    let given = bindings
                         .iter()
                         .find(|(v, _)| v == variable)
                         .map(|(_, cs)| cs.as_slice());
-                    let found = candidates
+                    let candidates: Vec<(Term, f64)> = given
                         .unwrap_or_default()
                         .iter()
                         .filter(|c| scene.object(&c.id).is_some())
                         .map(|c| (Term::constant(&c.id), c.score))
                         .collect();
-                    (found, variable.to_string())
+                    let noun = common_noun(scene, candidates.iter().filter_map(|(t, _)| t.name().map(|n| &**n)));
+                    Slot {
+                        candidates,
+                        words: variable.to_string(),
+                        noun,
+                    }
                 })
                 .collect();
             (Template::Form(action, variables), slots)
         }
-    };
-    let missing: Vec<String> = named
-        .iter()
-        .filter(|(found, _)| found.is_empty())
-        .map(|(_, w)| w.clone())
-        .collect();
-    if !missing.is_empty() {
-        return Ok(Readings::Unresolved(missing));
     }
-    let slots: Vec<Slot> = named.into_iter().map(|(found, _)| found).collect();
-    let count = slots
-        .iter()
-        .try_fold(1u128, |acc, s| acc.checked_mul(s.len() as u128))
-        .unwrap_or(u128::MAX);
-    if count > MAX_READINGS as u128 {
-        return Err(EngineError::TooManyReadings {
-            count,
-            limit: MAX_READINGS,
-        });
-    }
-    let mut out = Vec::with_capacity(count as usize);
+}
+
+/// Every combination of the slots' candidates (last slot fastest): the values and the score.
+fn combinations(slots: &[Slot]) -> Vec<(Vec<Term>, f64)> {
+    let mut out = Vec::new();
     let mut choice = vec![0usize; slots.len()];
     loop {
-        let picked: Vec<&(Term, f64)> = choice.iter().zip(&slots).map(|(&i, s)| &s[i]).collect();
-        let score = picked.iter().map(|(_, s)| s).product::<f64>();
-        let action = match &template {
-            Template::Verb(verb) => Term::Compound(verb.clone(), picked.iter().map(|(t, _)| t.clone()).collect()),
-            Template::Form(form, variables) => {
-                let mut subst = super::term::Subst::new();
-                for (variable, (value, _)) in variables.iter().zip(&picked) {
-                    subst.bind(variable.clone(), value.clone());
-                }
-                form.substitute(&subst)
-            }
-        };
-        // A verb with no arguments is a constant, not a compound with an empty list.
-        let action = if action.arity() == 0 && !action.is_var() {
-            Term::Const(action.name().cloned().unwrap_or_default())
-        } else {
-            action
-        };
-        out.push((action, score));
-        // Odometer over the slots, last slot fastest.
+        let values = choice
+            .iter()
+            .zip(slots)
+            .map(|(&i, s)| s.candidates[i].0.clone())
+            .collect();
+        let score = choice.iter().zip(slots).map(|(&i, s)| s.candidates[i].1).product();
+        out.push((values, score));
         let mut slot = slots.len();
         loop {
             if slot == 0 {
-                return Ok(Readings::Found(out));
+                return out;
             }
             slot -= 1;
             choice[slot] += 1;
-            if choice[slot] < slots[slot].len() {
+            if choice[slot] < slots[slot].candidates.len() {
                 break;
             }
             choice[slot] = 0;
@@ -343,145 +395,300 @@ fn readings(directive: &Directive, scene: &Scene) -> Result<Readings, EngineErro
     }
 }
 
-fn unresolved(words: Vec<String>, norm_version: i64) -> Decision {
-    let referents: Vec<Term> = words
-        .iter()
-        .map(|w| Term::compound("referent", vec![Term::constant(&w.replace(' ', "_"))]))
-        .collect();
-    let what = if referents.len() == 1 {
-        referents[0].clone()
-    } else {
-        Term::compound("and", referents)
-    };
-    Decision {
-        kind: DecisionKind::Unresolved,
-        utterance: format!("I do not know what you mean by {}.", words.join(" and ")),
-        speech_act: Term::compound("want_know", vec![Term::constant("self"), what]),
-        goal: None,
-        interpretations: Vec::new(),
-        norm_version,
-    }
-}
-
-/// The reason in words, as the contract's table gives it.
-fn reason_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
-    match &reason.cause {
-        Cause::ForbiddenAction { name, .. } => format!("{name} is forbidden action"),
-        Cause::ForbiddenState { .. } => "it requires a forbidden state".to_owned(),
-        Cause::UnknownAction { verb } => format!("I do not know how to {}", spoken(verb)),
-        Cause::Unreachable { object } => {
-            format!("{} is out of reach", describer.argument(&Term::Const(object.clone())))
+/// Whether a reading involves an object the answer names.
+fn answer_keeps(answer: &Answer, values: &[Term], scene: &Scene) -> bool {
+    values.iter().any(|value| {
+        let Some(object) = value.name().and_then(|id| scene.object(id)) else {
+            return false;
+        };
+        match answer {
+            Answer::Id(id) => &object.id == id,
+            Answer::Reference(reference) => reference.matches(object),
+            Answer::Choice(_) => true,
         }
-        Cause::UnknownObject { object } => format!("I do not see {}", describer.argument(object)),
-        Cause::Precondition { fact } => format!("{fact} does not hold"),
-        Cause::PlanTooDeep { .. } => "its plan is too deep to simulate".to_owned(),
+    })
+}
+
+/// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
+/// `expired` tells whether the request's deadline has passed; it is asked before each reading
+/// after the first is simulated (the first always is).
+pub fn clarify(
+    request: &Request,
+    scene: &Scene,
+    norms: &CompiledNorms,
+    library: &Library,
+    expired: &dyn Fn() -> bool,
+) -> Result<Decision, EngineError> {
+    let speaker = Term::Const(request.speaker.clone());
+    let options = request.options;
+    let mut describer = Describer::new(scene, library);
+    let finish = |plan: Plan, interpretations: Vec<Interpretation>, limits, describer: &mut Describer<'_>| {
+        render(
+            &speaker,
+            options.style,
+            plan,
+            interpretations,
+            limits,
+            norms.version,
+            describer,
+        )
+    };
+
+    let (template, slots) = slots(&request.directive, scene);
+    let missing: Vec<String> = slots
+        .iter()
+        .filter(|s| s.candidates.is_empty())
+        .map(|s| s.words.clone())
+        .collect();
+    if !missing.is_empty() {
+        return Ok(finish(Plan::Unresolved(missing), Vec::new(), None, &mut describer));
+    }
+    let count = slots
+        .iter()
+        .try_fold(1u128, |acc, s| acc.checked_mul(s.candidates.len() as u128))
+        .unwrap_or(u128::MAX);
+    if count > options.max_readings as u128 {
+        // Too ambiguous to simulate: name the references that have more than one candidate.
+        let nouns = slots
+            .iter()
+            .filter(|s| s.candidates.len() > 1)
+            .map(|s| s.noun.clone())
+            .collect();
+        let limits = Limits {
+            kind: LimitKind::TooManyReadings,
+            readings: count,
+            simulated: 0,
+        };
+        return Ok(finish(
+            Plan::AskWhich { nouns },
+            Vec::new(),
+            Some(limits),
+            &mut describer,
+        ));
+    }
+
+    let mut readings: Vec<Interpretation> = combinations(&slots)
+        .into_iter()
+        .filter(|(values, _)| match &request.answer {
+            Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => answer_keeps(answer, values, scene),
+            _ => true,
+        })
+        .map(|(values, score)| {
+            let action = template.action(&values);
+            Interpretation {
+                description: describer.arguments(&action),
+                reading: describer.reading(&action),
+                action,
+                score,
+                outcome: Outcome::default(),
+                reason_words: Vec::new(),
+                values,
+            }
+        })
+        .collect();
+    if readings.is_empty() {
+        // The answer matches none of the readings.
+        let words = match &request.answer {
+            Some(Answer::Reference(reference)) => reference.words(scene),
+            Some(Answer::Id(id)) => Reference::Id(id.clone()).words(scene),
+            _ => String::new(),
+        };
+        return Ok(finish(Plan::Unresolved(vec![words]), Vec::new(), None, &mut describer));
+    }
+    // The contract's order, before simulating: likeliest first, so a deadline cuts the least likely.
+    readings.sort_by(|a, b| {
+        b.score
+            .total_cmp(&a.score)
+            .then_with(|| a.description.as_bytes().cmp(b.description.as_bytes()))
+            .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
+    });
+
+    let base = Arc::new(Base::new(scene.all_facts()));
+    let world = World::new(base);
+    let env = Env {
+        scene,
+        norms,
+        library,
+        scope: Scope {
+            context: &request.context,
+            roles: &request.speaker_roles,
+        },
+    };
+    let total = readings.len();
+    let mut simulated = 0;
+    for reading in &mut readings {
+        if simulated > 0 && expired() {
+            break;
+        }
+        reading.outcome = simulate(&env, &world, &reading.action);
+        reading.action = did(&reading.action);
+        simulated += 1;
+    }
+    readings.truncate(simulated);
+    let limits = (simulated < total).then_some(Limits {
+        kind: LimitKind::Deadline,
+        readings: total as u128,
+        simulated,
+    });
+
+    let mut plan = decide(options, &readings, &slots, limits.is_some());
+    if let Some(Answer::Choice(choice)) = request.answer {
+        let offered = match &plan {
+            Plan::Ask { offered, .. } => offered.clone(),
+            Plan::Confirm { chosen, .. } => vec![*chosen],
+            other => {
+                return Err(EngineError::NothingAsked {
+                    decision: plan_kind(other).as_str(),
+                });
+            }
+        };
+        let Some(&picked) = offered.get(choice) else {
+            return Err(EngineError::BadChoice {
+                choice,
+                offered: offered.len(),
+            });
+        };
+        readings = vec![readings.swap_remove(picked)];
+        plan = decide(options, &readings, &slots, false);
+    }
+    Ok(finish(plan, readings, limits, &mut describer))
+}
+
+/// The nouns of the slots whose value differs among `readings` ("which notebook").
+fn varying_nouns(readings: &[&Interpretation], slots: &[Slot]) -> Vec<String> {
+    slots
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| readings.windows(2).any(|w| w[0].values[*j] != w[1].values[*j]))
+        .map(|(_, s)| s.noun.clone())
+        .collect()
+}
+
+/// The question for more acceptable readings than may be named: the few likeliest, or, when
+/// they are all equally likely, the words that are ambiguous.
+fn too_many(good: &[usize], all: &[Interpretation], slots: &[Slot], max_spoken: usize) -> Plan {
+    let evenly = good.windows(2).all(|w| all[w[0]].score == all[w[1]].score);
+    let nouns = varying_nouns(&good.iter().map(|&i| &all[i]).collect::<Vec<_>>(), slots);
+    if evenly && !nouns.is_empty() {
+        Plan::AskWhich { nouns }
+    } else {
+        Plan::Ask {
+            offered: good.iter().copied().take(FEW.min(max_spoken)).collect(),
+            more: true,
+        }
     }
 }
 
-/// `I cannot {reading} because {reason}`, and its term `cannot(a,because(r))`. Only called for
-/// readings that have a reason.
-fn cannot(interpretation: &Interpretation, describer: &mut Describer<'_>) -> (String, Term) {
-    let first = &interpretation.outcome.reasons[0];
-    let words = format!(
-        "I cannot {} because {}",
-        interpretation.reading,
-        reason_words(first, describer)
-    );
-    let term = Term::compound(
-        "cannot",
-        vec![
-            interpretation.action.clone(),
-            Term::compound("because", vec![first.term()]),
-        ],
-    );
-    (words, term)
-}
-
-fn mean(speaker: &Term, what: Term) -> Term {
-    Term::compound("mean", vec![speaker.clone(), what])
-}
-
-fn act(name: &str, what: Term) -> Term {
-    Term::compound(name, vec![Term::constant("self"), what])
-}
-
-fn decision(kind: DecisionKind, utterance: String, speech_act: Term, goal: Option<Term>) -> Decision {
-    Decision {
-        kind,
-        utterance,
-        speech_act,
-        goal,
-        interpretations: Vec::new(),
-        norm_version: 0,
-    }
-}
-
-fn ask(speaker: &Term, offered: &[&Interpretation]) -> Decision {
-    let readings: Vec<&str> = offered.iter().map(|i| i.reading.as_str()).collect();
-    let utterance = format!(
-        "Do you mean that you want me to {}?",
-        readings.join(" or that you want me to ")
-    );
-    let or = Term::compound("or", offered.iter().map(|i| i.action.clone()).collect());
-    decision(DecisionKind::Ask, utterance, act("want_know", mean(speaker, or)), None)
-}
-
-/// Algorithm 1 (two or more readings) and the single-reading cases.
-fn decide(speaker: &Term, options: Options, all: &[Interpretation], describer: &mut Describer<'_>) -> Decision {
-    if let [only] = all {
-        return if only.acceptable() {
-            decision(
-                DecisionKind::Comply,
-                "Okay.".to_owned(),
-                act("acknowledge", mean(speaker, only.action.clone())),
-                Some(only.action.clone()),
-            )
+/// Algorithm 1 (two or more readings), the single-reading cases, and the caps.
+fn decide(options: Options, all: &[Interpretation], slots: &[Slot], incomplete: bool) -> Plan {
+    let good: Vec<usize> = (0..all.len()).filter(|&i| all[i].acceptable()).collect();
+    if incomplete {
+        // Unsimulated readings remain: never assume, obey or explain on a partial view; name
+        // only simulated acceptable readings, and say there may be something else.
+        return if good.is_empty() {
+            Plan::AskWhich {
+                nouns: slots
+                    .iter()
+                    .filter(|s| s.candidates.len() > 1)
+                    .map(|s| s.noun.clone())
+                    .collect(),
+            }
         } else {
-            let (words, term) = cannot(only, describer);
-            decision(DecisionKind::Refuse, format!("{words}."), term, None)
+            Plan::Ask {
+                offered: good.into_iter().take(FEW.min(options.max_spoken)).collect(),
+                more: true,
+            }
+        };
+    }
+    if all.len() == 1 {
+        return if good.len() == 1 {
+            Plan::Comply(0)
+        } else {
+            Plan::Refuse(0)
         };
     }
     if options.strategy == Strategy::Reflexive {
-        return ask(speaker, &all.iter().collect::<Vec<_>>());
+        return Plan::Ask {
+            offered: (0..all.len().min(options.max_spoken)).collect(),
+            more: all.len() > options.max_spoken,
+        };
     }
-    let good: Vec<&Interpretation> = all.iter().filter(|i| i.acceptable()).collect();
+    let others: Vec<usize> = (0..all.len()).filter(|&i| !all[i].acceptable()).collect();
     match good.as_slice() {
-        [] => {
-            let (sentences, terms): (Vec<String>, Vec<Term>) = all.iter().map(|i| cannot(i, describer)).unzip();
-            let clauses: Vec<String> = sentences
-                .iter()
-                .map(|s| s.trim_start_matches("I ").to_owned())
-                .collect();
-            let utterance = format!("I believe that I {}.", clauses.join(" and that I "));
-            decision(
-                DecisionKind::Explain,
-                utterance,
-                act("believe", Term::compound("and", terms)),
-                None,
-            )
-        }
+        [] => Plan::Explain(others),
         [chosen] => {
-            let others: String = all
-                .iter()
-                .filter(|i| !i.acceptable())
-                .map(|i| format!(" {}.", cannot(i, describer).0))
-                .collect();
-            let target = mean(speaker, chosen.action.clone());
-            match options.single_permissible {
-                SinglePermissible::Assume => decision(
-                    DecisionKind::Assume,
-                    format!("I am assuming you want me to {}.{others}", chosen.reading),
-                    act("assume", target),
-                    Some(chosen.action.clone()),
-                ),
-                SinglePermissible::Confirm => decision(
-                    DecisionKind::Confirm,
-                    format!("Do you want me to {}?{others}", chosen.reading),
-                    act("want_know", target),
-                    None,
-                ),
+            let share = others.len() as f64 / all.len() as f64;
+            let confirm = options.single_permissible == SinglePermissible::Confirm
+                || options.confirm_above_ratio.is_some_and(|ratio| share > ratio);
+            if confirm {
+                Plan::Confirm {
+                    chosen: *chosen,
+                    others,
+                }
+            } else {
+                Plan::Assume {
+                    chosen: *chosen,
+                    others,
+                }
             }
         }
-        several => ask(speaker, several),
+        several if several.len() <= options.max_spoken => Plan::Ask {
+            offered: several.to_vec(),
+            more: false,
+        },
+        several => too_many(several, all, slots, options.max_spoken),
+    }
+}
+
+fn plan_kind(plan: &Plan) -> DecisionKind {
+    match plan {
+        Plan::Comply(_) => DecisionKind::Comply,
+        Plan::Refuse(_) => DecisionKind::Refuse,
+        Plan::Ask { .. } | Plan::AskWhich { .. } => DecisionKind::Ask,
+        Plan::Assume { .. } => DecisionKind::Assume,
+        Plan::Confirm { .. } => DecisionKind::Confirm,
+        Plan::Explain(_) => DecisionKind::Explain,
+        Plan::Unresolved(_) => DecisionKind::Unresolved,
+    }
+}
+
+fn render(
+    speaker: &Term,
+    style: Style,
+    plan: Plan,
+    mut interpretations: Vec<Interpretation>,
+    limits: Option<Limits>,
+    norm_version: i64,
+    describer: &mut Describer<'_>,
+) -> Decision {
+    let (goal, offered) = match &plan {
+        Plan::Comply(i) | Plan::Assume { chosen: i, .. } => {
+            let action = interpretations[*i].action.clone();
+            (Some(action.clone()), vec![action])
+        }
+        Plan::Confirm { chosen, .. } => (None, vec![interpretations[*chosen].action.clone()]),
+        Plan::Ask { offered, .. } => (
+            None,
+            offered.iter().map(|&i| interpretations[i].action.clone()).collect(),
+        ),
+        _ => (None, Vec::new()),
+    };
+    for i in &mut interpretations {
+        i.reason_words = i
+            .outcome
+            .reasons
+            .iter()
+            .map(|r| speech::reason_words(r, style, describer))
+            .collect();
+    }
+    Decision {
+        kind: plan_kind(&plan),
+        utterance: speech::utterance(&plan, &interpretations, style, describer),
+        speech_act: speech::speech_act(&plan, &interpretations, speaker),
+        goal,
+        interpretations,
+        offered,
+        limits,
+        norm_version,
     }
 }

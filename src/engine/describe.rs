@@ -95,6 +95,11 @@ impl<'a> Describer<'a> {
         }
     }
 
+    /// The type of a scene object, spoken ("cash box").
+    pub fn kind_of(&self, id: &str) -> Option<String> {
+        self.scene.object(id).map(|o| spoken(&o.kind))
+    }
+
     /// The action's arguments in words, joined as its verb joins them ("the cup on the plate").
     pub fn arguments(&mut self, action: &Term) -> String {
         let joiner = self

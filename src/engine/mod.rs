@@ -9,6 +9,7 @@ pub mod describe;
 pub mod norms;
 pub mod scene;
 pub mod simulate;
+pub mod speech;
 pub mod term;
 pub mod world;
 

@@ -50,6 +50,17 @@ pub struct NormSpec {
     /// 1 (mild) ..= 5 (grave).
     pub severity: u8,
     pub note: Option<String>,
+    /// When not empty, the norm applies only to speakers with at least one of these roles.
+    pub roles: Vec<String>,
+    /// The norm does not apply to speakers with any of these roles.
+    pub exempt_roles: Vec<String>,
+}
+
+/// Who asks and where: the context and the speaker's roles select the norms in force.
+#[derive(Clone, Copy, Debug)]
+pub struct Scope<'a> {
+    pub context: &'a str,
+    pub roles: &'a [String],
 }
 
 /// A stored norm.
@@ -60,8 +71,13 @@ pub struct Norm {
 }
 
 impl Norm {
-    fn applies_in(&self, context: &str) -> bool {
-        self.spec.context.as_deref().is_none_or(|c| c == context)
+    /// In force for this request: its context (if any) is the request's, it names one of the
+    /// speaker's roles (if it names any), and it exempts none of them.
+    fn applies_in(&self, scope: Scope<'_>) -> bool {
+        let spec = &self.spec;
+        spec.context.as_deref().is_none_or(|c| c == scope.context)
+            && (spec.roles.is_empty() || spec.roles.iter().any(|r| scope.roles.contains(r)))
+            && !spec.exempt_roles.iter().any(|r| scope.roles.contains(r))
     }
 }
 
@@ -76,6 +92,8 @@ pub struct NormInput {
     pub context: Option<String>,
     pub severity: Option<i64>,
     pub note: Option<String>,
+    pub roles: Option<Vec<String>>,
+    pub exempt_roles: Option<Vec<String>>,
 }
 
 /// What is wrong with a norm, and where: `field` is a JSON Pointer relative to the norm.
@@ -170,6 +188,14 @@ impl NormInput {
         {
             return Err(norm_error("/note", format!("at most {MAX_NOTE_LEN} bytes")));
         }
+        let roles = validate_roles("/roles", self.roles)?;
+        let exempt_roles = validate_roles("/exempt_roles", self.exempt_roles)?;
+        if let Some(both) = roles.iter().find(|r| exempt_roles.contains(r)) {
+            return Err(norm_error(
+                "/exempt_roles",
+                format!("`{both}` is both a role the norm applies to and one it exempts"),
+            ));
+        }
         Ok(NormSpec {
             kind,
             term,
@@ -177,8 +203,32 @@ impl NormInput {
             context: self.context,
             severity,
             note: self.note,
+            roles,
+            exempt_roles,
         })
     }
+}
+
+pub const MAX_ROLES: usize = 16;
+
+/// Role names are short words: letters, digits, `_`, `-`.
+fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, NormError> {
+    let roles = roles.unwrap_or_default();
+    if roles.len() > MAX_ROLES {
+        return Err(norm_error(field, format!("at most {MAX_ROLES} roles")));
+    }
+    for (i, role) in roles.iter().enumerate() {
+        let valid = !role.is_empty()
+            && role.len() <= MAX_CONTEXT_LEN
+            && role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        if !valid {
+            return Err(norm_error(
+                format!("{field}/{i}"),
+                format!("`{role}` is not a role name (letters, digits, `_`, `-`)"),
+            ));
+        }
+    }
+    Ok(roles)
 }
 
 /// A forbidden-action or forbidden-state rule, as checks use it.
@@ -263,9 +313,9 @@ impl CompiledNorms {
         self.rules.is_empty()
     }
 
-    /// Forbidden-action norms in force in `context` that `action` violates in `world` (the world
+    /// Forbidden-action norms in force in `scope` that `action` violates in `world` (the world
     /// before the action). A norm naming only an action (`destroy`) matches it at any arity.
-    pub fn check_action(&self, action: &Term, world: &World, context: &str) -> Vec<ActionViolation> {
+    pub fn check_action(&self, action: &Term, world: &World, scope: Scope<'_>) -> Vec<ActionViolation> {
         let Some(name) = action.name() else {
             return Vec::new();
         };
@@ -275,7 +325,7 @@ impl CompiledNorms {
         let mut out = Vec::new();
         for &index in indices {
             let rule = &self.rules[index];
-            if !rule.norm.applies_in(context) {
+            if !rule.norm.applies_in(scope) {
                 continue;
             }
             let pattern = &rule.norm.spec.term;
@@ -298,7 +348,7 @@ impl CompiledNorms {
     /// Forbidden states that `world` is in because of the facts in `new_facts` (just made true):
     /// each violation involves at least one of them, so states the world was already in are not
     /// reported again. Deterministic: by new fact, then norm id, then solution order.
-    pub fn check_entered(&self, new_facts: &[Term], world: &World, context: &str) -> Vec<StateViolation> {
+    pub fn check_entered(&self, new_facts: &[Term], world: &World, scope: Scope<'_>) -> Vec<StateViolation> {
         let mut out: Vec<StateViolation> = Vec::new();
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
@@ -307,7 +357,7 @@ impl CompiledNorms {
             };
             for &(index, position) in hits {
                 let rule = &self.rules[index];
-                if !rule.norm.applies_in(context) {
+                if !rule.norm.applies_in(scope) {
                     continue;
                 }
                 let mut seed = Subst::new();

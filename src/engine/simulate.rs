@@ -5,7 +5,7 @@
 //! readings, or decide what to say.
 
 use super::action::{Library, Step};
-use super::norms::CompiledNorms;
+use super::norms::{CompiledNorms, Scope};
 use super::scene::Scene;
 use super::term::{Subst, Sym, Term};
 use super::world::World;
@@ -122,7 +122,8 @@ pub struct Env<'a> {
     pub scene: &'a Scene,
     pub norms: &'a CompiledNorms,
     pub library: &'a Library,
-    pub context: &'a str,
+    /// The context and the speaker's roles: which norms are in force.
+    pub scope: Scope<'a>,
 }
 
 struct Run<'a> {
@@ -139,7 +140,7 @@ impl Run<'_> {
     }
 
     fn check_action(&mut self, action: &Term) {
-        for v in self.env.norms.check_action(action, &self.world, self.env.context) {
+        for v in self.env.norms.check_action(action, &self.world, self.env.scope) {
             self.push(Reason {
                 cause: Cause::ForbiddenAction {
                     step: action.clone(),
@@ -153,7 +154,7 @@ impl Run<'_> {
 
     /// Forbidden states the world is in because of `new_facts`, just made true in it.
     fn check_entered(&mut self, new_facts: &[Term]) {
-        let found = self.env.norms.check_entered(new_facts, &self.world, self.env.context);
+        let found = self.env.norms.check_entered(new_facts, &self.world, self.env.scope);
         for v in found {
             self.push(Reason {
                 cause: Cause::ForbiddenState { fact: v.fact },

@@ -9,8 +9,8 @@ use proptest::prelude::*;
 
 use super::action::Library;
 use super::clarify::{
-    Candidate, Decision, DecisionKind, Directive, Options, Reference, Request, SinglePermissible,
-    Strategy as ClarifyStrategy, clarify,
+    Candidate, DEFAULT_MAX_SPOKEN, Decision, DecisionKind, Directive, FEW, Interpretation, Options, Reference, Request,
+    SinglePermissible, Strategy as ClarifyStrategy, clarify,
 };
 use super::norms::{CompiledNorms, Norm, NormInput};
 use super::scene::{Agent, Object, Scene, Shape};
@@ -226,9 +226,11 @@ fn id(id: &str) -> Reference {
 fn request(directive: Directive) -> Request {
     Request {
         speaker: Sym::from("human"),
+        speaker_roles: Vec::new(),
         directive,
         context: "default".into(),
         options: Options::default(),
+        answer: None,
     }
 }
 
@@ -300,7 +302,7 @@ fn reflexive(request: Request) -> Request {
 }
 
 fn run(request: &Request, scene: &Scene, norms: &CompiledNorms) -> Decision {
-    clarify(request, scene, norms, &Library::default_library()).expect("clarify")
+    clarify(request, scene, norms, &Library::default_library(), &|| false).expect("clarify")
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -460,7 +462,7 @@ fn mismatches(name: &str, d: &Decision, e: &Expect) -> Vec<String> {
 fn run_cases(cases: Vec<Case>) {
     let mut failures = Vec::new();
     for c in &cases {
-        match clarify(&c.request, &c.scene, &c.norms, &Library::default_library()) {
+        match clarify(&c.request, &c.scene, &c.norms, &Library::default_library(), &|| false) {
             Ok(d) => failures.extend(mismatches(c.name, &d, &c.expect)),
             Err(e) => failures.push(format!("[{}] clarify failed: {e}", c.name)),
         }
@@ -1867,14 +1869,50 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             prop_assert!(d.utterance.starts_with(&prefix), "{}", d.utterance);
         }
         Ask => {
-            let readings: Vec<&str> = good.iter().map(|i| i.reading.as_str()).collect();
-            let question = format!(
-                "Do you mean that you want me to {}?",
-                readings.join(" or that you want me to ")
+            // Only acceptable readings are ever named, in order: all of them when they fit in
+            // `max_spoken`; else the first few and "or something else", or no reading at all
+            // but the ambiguous words.
+            let offered: Vec<&Interpretation> = d
+                .offered
+                .iter()
+                .map(|a| {
+                    all.iter()
+                        .find(|i| &i.action == a)
+                        .expect("an offered reading is a reading")
+                })
+                .collect();
+            prop_assert!(
+                offered.iter().all(|i| i.permissible() && i.feasible()),
+                "{}",
+                d.utterance
             );
-            prop_assert_eq!(&d.utterance, &question);
-            let or = Term::compound("or", good.iter().map(|i| i.action.clone()).collect());
-            prop_assert_eq!(d.speech_act.to_string(), format!("want_know(self,mean(human,{or}))"));
+            prop_assert!(
+                good.iter()
+                    .map(|i| &i.action)
+                    .take(offered.len())
+                    .eq(offered.iter().map(|i| &i.action))
+            );
+            let readings: Vec<&str> = offered.iter().map(|i| i.reading.as_str()).collect();
+            if good.len() <= DEFAULT_MAX_SPOKEN {
+                prop_assert_eq!(offered.len(), good.len());
+                let question = format!(
+                    "Do you mean that you want me to {}?",
+                    readings.join(" or that you want me to ")
+                );
+                prop_assert_eq!(&d.utterance, &question);
+                let or = Term::compound("or", good.iter().map(|i| i.action.clone()).collect());
+                prop_assert_eq!(d.speech_act.to_string(), format!("want_know(self,mean(human,{or}))"));
+            } else if offered.is_empty() {
+                prop_assert!(d.utterance.starts_with("I do not know which "), "{}", d.utterance);
+                prop_assert!(d.utterance.ends_with(" you mean."), "{}", d.utterance);
+            } else {
+                prop_assert!(offered.len() <= FEW);
+                let question = format!(
+                    "Do you mean that you want me to {} or something else?",
+                    readings.join(" or that you want me to ")
+                );
+                prop_assert_eq!(&d.utterance, &question);
+            }
         }
         Assume | Confirm => {
             let first = match d.kind {
@@ -1950,6 +1988,7 @@ impl RandomCase {
             options: Options {
                 strategy: ClarifyStrategy::Moral,
                 single_permissible: self.single,
+                ..Options::default()
             },
             ..act(self.verb, arguments)
         }
@@ -1990,11 +2029,11 @@ proptest! {
         let norms = norms(&case.norms);
         let request = case.request();
         let library = Library::default_library();
-        let d = clarify(&request, &scene, &norms, &library).expect("clarify");
+        let d = clarify(&request, &scene, &norms, &library, &|| false).expect("clarify");
         check_invariant(&d, case.single)?;
         // The same inputs, again and on a freshly built scene: the same decision.
-        prop_assert_eq!(&clarify(&request, &scene, &norms, &library).expect("clarify"), &d);
-        prop_assert_eq!(&clarify(&request, &case.scene(), &norms, &library).expect("clarify"), &d);
+        prop_assert_eq!(&clarify(&request, &scene, &norms, &library, &|| false).expect("clarify"), &d);
+        prop_assert_eq!(&clarify(&request, &case.scene(), &norms, &library, &|| false).expect("clarify"), &d);
     }
 }
 

@@ -19,7 +19,7 @@ use crate::engine::term::Term;
 /// The columns a norm is read from, as a literal so that queries stay static strings.
 macro_rules! norm_columns {
     () => {
-        "id, kind, term, when_json, context, severity, note"
+        "id, kind, term, when_json, context, severity, note, roles_json, exempt_roles_json"
     };
 }
 
@@ -73,14 +73,22 @@ fn corrupt(id: i64, what: &str) -> StoreError {
     StoreError(format!("norm {id} is unreadable: {what}"))
 }
 
+fn json_list(id: i64, row: &SqliteRow, column: &str) -> Result<Vec<String>, StoreError> {
+    let text: String = row.try_get(column)?;
+    serde_json::from_str(&text).map_err(|e| corrupt(id, &format!("{column}: {e}")))
+}
+
+fn to_json(list: &[String]) -> Result<String, StoreError> {
+    serde_json::to_string(list).map_err(|e| StoreError(e.to_string()))
+}
+
 fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
     let id: i64 = row.try_get("id")?;
     let kind: String = row.try_get("kind")?;
     let kind = NormKind::parse(&kind).ok_or_else(|| corrupt(id, "unknown kind"))?;
     let term: String = row.try_get("term")?;
     let term = Term::parse(&term).map_err(|e| corrupt(id, &e.to_string()))?;
-    let when_json: String = row.try_get("when_json")?;
-    let when_texts: Vec<String> = serde_json::from_str(&when_json).map_err(|e| corrupt(id, &e.to_string()))?;
+    let when_texts = json_list(id, row, "when_json")?;
     let when = when_texts
         .iter()
         .map(|t| Term::parse(t))
@@ -100,6 +108,8 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
             context: row.try_get("context")?,
             severity,
             note: row.try_get("note")?,
+            roles: json_list(id, row, "roles_json")?,
+            exempt_roles: json_list(id, row, "exempt_roles_json")?,
         },
     })
 }
@@ -128,10 +138,11 @@ impl NormStore for SqliteStore {
 
     async fn create(&self, spec: &NormSpec) -> Result<Norm, StoreError> {
         let when: Vec<String> = spec.when.iter().map(Term::to_string).collect();
-        let when_json = serde_json::to_string(&when).map_err(|e| StoreError(e.to_string()))?;
+        let when_json = to_json(&when)?;
         let mut tx = self.write().await?;
         let id: i64 = sqlx::query_scalar(
-            "INSERT INTO norms (kind, term, when_json, context, severity, note) VALUES (?, ?, ?, ?, ?, ?) RETURNING id",
+            "INSERT INTO norms (kind, term, when_json, context, severity, note, roles_json, exempt_roles_json) \
+             VALUES (?, ?, ?, ?, ?, ?, ?, ?) RETURNING id",
         )
         .bind(spec.kind.as_str())
         .bind(spec.term.to_string())
@@ -139,6 +150,8 @@ impl NormStore for SqliteStore {
         .bind(spec.context.as_deref())
         .bind(i64::from(spec.severity))
         .bind(spec.note.as_deref())
+        .bind(to_json(&spec.roles)?)
+        .bind(to_json(&spec.exempt_roles)?)
         .fetch_one(&mut *tx)
         .await?;
         bump(&mut tx).await?;

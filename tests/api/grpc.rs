@@ -138,6 +138,22 @@ fn clarify_request(body: &Value) -> pb::ClarifyRequest {
         options: body.get("options").map(|o| pb::Options {
             strategy: opt(&o["strategy"]),
             single_permissible: opt(&o["single_permissible"]),
+            style: opt(&o["style"]),
+            max_spoken: o["max_spoken"].as_u64(),
+            max_readings: o["max_readings"].as_u64(),
+            deadline_ms: o["deadline_ms"].as_u64(),
+            confirm_above_ratio: o["confirm_above_ratio"].as_f64(),
+        }),
+        speaker_roles: strings(&body["speaker_roles"]),
+        answer: body.get("answer").map(|a| pb::Answer {
+            choice: a["choice"].as_u64(),
+            id: opt(&a["id"]),
+            reference: a.get("reference").map(|r| pb::Reference {
+                id: opt(&r["id"]),
+                r#type: opt(&r["type"]),
+                attributes: string_map(&r["attributes"]),
+                properties: strings(&r["properties"]),
+            }),
         }),
     }
 }
@@ -159,6 +175,7 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
                     if let Some(severity) = reason.severity {
                         v["severity"] = json!(severity);
                     }
+                    v["words"] = json!(reason.words);
                     v
                 })
                 .collect();
@@ -167,7 +184,11 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
         })
         .collect();
     let mut v = json!({"decision": r.decision, "utterance": r.utterance, "speech_act": r.speech_act,
-                       "goal": r.goal, "interpretations": interpretations, "norm_version": r.norm_version});
+                       "goal": r.goal, "interpretations": interpretations, "offered": r.offered,
+                       "norm_version": r.norm_version});
+    if let Some(limits) = r.limits {
+        v["limits"] = json!({"reason": limits.reason, "readings": limits.readings, "simulated": limits.simulated});
+    }
     if let Some(text) = r.text {
         v["text"] = json!(text);
     }
@@ -183,6 +204,8 @@ fn norm_request(norm: &Value) -> pb::CreateNormRequest {
         context: opt(&norm["context"]),
         severity: norm["severity"].as_i64(),
         note: opt(&norm["note"]),
+        roles: strings(&norm["roles"]),
+        exempt_roles: strings(&norm["exempt_roles"]),
     }
 }
 

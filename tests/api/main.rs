@@ -1,6 +1,7 @@
 //! One integration-test binary: the real service on port 0 with a fresh database per test.
 
 mod auth;
+mod beyond;
 mod binary;
 mod errors;
 mod fail_closed;

@@ -65,10 +65,12 @@ async fn get_the_vase_carries_every_reading_with_reasons_plan_and_norm_version()
             "interpretations": [
                 {"action": "did(self,get(object3))", "description": "the fragile vase", "permissible": false,
                  "feasible": true, "reasons": [{"kind": "forbidden_state", "detail": "did(self,get(object3))",
-                 "norm_id": ids[1], "severity": 3}], "plan": ["get(object3)"], "score": 1.0},
+                 "norm_id": ids[1], "severity": 3, "words": "it requires a forbidden state"}],
+                 "plan": ["get(object3)"], "score": 1.0},
                 {"action": "did(self,get(object4))", "description": "the plastic vase", "permissible": true,
                  "feasible": true, "reasons": [], "plan": ["get(object4)"], "score": 1.0}
             ],
+            "offered": ["did(self,get(object4))"],
             "norm_version": 3,
             "text": "Get the vase."
         })

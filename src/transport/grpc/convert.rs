@@ -7,8 +7,9 @@ use std::collections::BTreeMap;
 
 use super::pb;
 use crate::api::{
-    AgentBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, NormBody, NormDto, ObjectBody,
-    OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody, SinglePermissibleBody, StrategyBody,
+    AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, NormBody, NormDto,
+    ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody, SinglePermissibleBody,
+    StrategyBody, StyleBody,
 };
 use crate::error::Error;
 
@@ -66,6 +67,20 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                         },
                         "`assume` or `confirm`",
                     )?,
+                    style: word(
+                        "/options/style",
+                        o.style,
+                        |t| match t {
+                            "diarc" => Some(StyleBody::Diarc),
+                            "natural" => Some(StyleBody::Natural),
+                            _ => None,
+                        },
+                        "`diarc` or `natural`",
+                    )?,
+                    max_spoken: o.max_spoken,
+                    max_readings: o.max_readings,
+                    deadline_ms: o.deadline_ms,
+                    confirm_above_ratio: o.confirm_above_ratio,
                 })
             })
             .transpose()?;
@@ -75,6 +90,12 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
             scene: scene.try_into()?,
             context: request.context,
             options,
+            speaker_roles: (!request.speaker_roles.is_empty()).then_some(request.speaker_roles),
+            answer: request.answer.map(|a| AnswerBody {
+                choice: a.choice,
+                id: a.id,
+                reference: a.reference.map(ReferenceBody::from),
+            }),
         })
     }
 }
@@ -193,6 +214,12 @@ impl From<DecisionDto> for pb::ClarifyResponse {
             interpretations: d.interpretations.into_iter().map(Into::into).collect(),
             norm_version: d.norm_version,
             text: d.text,
+            offered: d.offered,
+            limits: d.limits.map(|l| pb::Limits {
+                reason: l.reason,
+                readings: l.readings,
+                simulated: l.simulated,
+            }),
         }
     }
 }
@@ -218,6 +245,7 @@ impl From<ReasonDto> for pb::Reason {
             detail: r.detail,
             norm_id: r.norm_id,
             severity: r.severity.map(u32::from),
+            words: r.words,
         }
     }
 }
@@ -232,6 +260,8 @@ impl From<pb::CreateNormRequest> for NormBody {
             context: n.context,
             severity: n.severity,
             note: n.note,
+            roles: (!n.roles.is_empty()).then_some(n.roles),
+            exempt_roles: (!n.exempt_roles.is_empty()).then_some(n.exempt_roles),
         }
     }
 }
@@ -247,6 +277,8 @@ impl From<NormDto> for pb::Norm {
             context: n.context,
             severity: u32::from(n.severity),
             note: n.note,
+            roles: n.roles,
+            exempt_roles: n.exempt_roles,
         }
     }
 }

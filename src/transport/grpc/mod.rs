@@ -42,9 +42,10 @@ fn authorize<T>(state: &AppState, request: &Request<T>) -> Result<(), Status> {
 impl Clarifier for ClarifierService {
     async fn clarify(&self, request: Request<pb::ClarifyRequest>) -> Result<Response<pb::ClarifyResponse>, Status> {
         let body = ClarifyBody::try_from(request.into_inner())?;
-        let input = ClarifyInput::try_from(body)?;
-        let decision = self.state.core.clarify(&input).await?;
-        Ok(Response::new(DecisionDto::new(&decision, input.text).into()))
+        let mut input = ClarifyInput::try_from(body)?;
+        let text = input.text.take();
+        let decision = self.state.core.clarify(input).await?;
+        Ok(Response::new(DecisionDto::new(&decision, text).into()))
     }
 }
 

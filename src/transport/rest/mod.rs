@@ -198,7 +198,8 @@ async fn clarify(
     State(app): State<AppState>,
     JsonBody(body): JsonBody<ClarifyBody>,
 ) -> Result<Json<DecisionDto>, Error> {
-    let input = ClarifyInput::try_from(body)?;
-    let decision = app.core.clarify(&input).await?;
-    Ok(Json(DecisionDto::new(&decision, input.text)))
+    let mut input = ClarifyInput::try_from(body)?;
+    let text = input.text.take();
+    let decision = app.core.clarify(input).await?;
+    Ok(Json(DecisionDto::new(&decision, text)))
 }

@@ -1,0 +1,427 @@
+//! What the robot says: a decided plan rendered as an utterance and a speech act, in the paper's
+//! own words (`diarc`) or in fluent English whose firmness follows the norm's severity (`natural`).
+//!
+//! Owns: every sentence and every speech-act term. Must not: decide anything; it only words the
+//! plan `clarify` made, and it never names a reading the plan does not name.
+
+use super::clarify::Interpretation;
+use super::describe::Describer;
+use super::scene::spoken;
+use super::simulate::{Cause, Reason};
+use super::term::Term;
+
+/// How the robot phrases its answer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// The paper's exact words (the default).
+    #[default]
+    Diarc,
+    /// Fluent English; refusals are gentler for mild norms and firmer for grave ones.
+    Natural,
+}
+
+/// What to say, by reading index into the interpretations (in the contract's order).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Plan {
+    Comply(usize),
+    Refuse(usize),
+    /// Ask which of `offered` is meant; `more` when other readings exist that are not named.
+    Ask {
+        offered: Vec<usize>,
+        more: bool,
+    },
+    /// Too many readings to name: ask which thing each ambiguous reference means ("notebook").
+    AskWhich {
+        nouns: Vec<String>,
+    },
+    Assume {
+        chosen: usize,
+        others: Vec<usize>,
+    },
+    Confirm {
+        chosen: usize,
+        others: Vec<usize>,
+    },
+    Explain(Vec<usize>),
+    /// References that match nothing, in words ("the spoon").
+    Unresolved(Vec<String>),
+}
+
+fn act(name: &str, what: Term) -> Term {
+    Term::compound(name, vec![Term::constant("self"), what])
+}
+
+fn mean(speaker: &Term, what: Term) -> Term {
+    Term::compound("mean", vec![speaker.clone(), what])
+}
+
+/// A phrase as a constant: "the spoon" → `the_spoon`.
+fn phrase_term(words: &str) -> Term {
+    Term::constant(&words.replace(' ', "_"))
+}
+
+fn one_or_and(mut terms: Vec<Term>) -> Term {
+    if terms.len() == 1 {
+        terms.remove(0)
+    } else {
+        Term::compound("and", terms)
+    }
+}
+
+/// `cannot(a,because(r))`, with the first reason.
+fn cannot_term(i: &Interpretation) -> Term {
+    Term::compound(
+        "cannot",
+        vec![
+            i.action.clone(),
+            Term::compound("because", vec![i.outcome.reasons[0].term()]),
+        ],
+    )
+}
+
+/// The speech act of a plan: the logical form of its main act, as in Algorithm 1.
+pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
+    match plan {
+        Plan::Comply(i) => act("acknowledge", mean(speaker, all[*i].action.clone())),
+        Plan::Refuse(i) => cannot_term(&all[*i]),
+        Plan::Ask { offered, more } => {
+            let mut options: Vec<Term> = offered.iter().map(|&i| all[i].action.clone()).collect();
+            if *more {
+                options.push(Term::constant("something_else"));
+            }
+            act("want_know", mean(speaker, Term::compound("or", options)))
+        }
+        Plan::AskWhich { nouns } => act(
+            "want_know",
+            Term::compound(
+                "which",
+                vec![one_or_and(nouns.iter().map(|n| phrase_term(n)).collect())],
+            ),
+        ),
+        Plan::Assume { chosen, .. } => act("assume", mean(speaker, all[*chosen].action.clone())),
+        Plan::Confirm { chosen, .. } => act("want_know", mean(speaker, all[*chosen].action.clone())),
+        Plan::Explain(which) => act(
+            "believe",
+            Term::compound("and", which.iter().map(|&i| cannot_term(&all[i])).collect()),
+        ),
+        Plan::Unresolved(words) => act(
+            "want_know",
+            one_or_and(
+                words
+                    .iter()
+                    .map(|w| Term::compound("referent", vec![phrase_term(w)]))
+                    .collect(),
+            ),
+        ),
+    }
+}
+
+/// The reason in the paper's words, as the contract's table gives them.
+pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
+    match &reason.cause {
+        Cause::ForbiddenAction { name, .. } => format!("{name} is forbidden action"),
+        Cause::ForbiddenState { .. } => "it requires a forbidden state".to_owned(),
+        Cause::UnknownAction { verb } => format!("I do not know how to {}", spoken(verb)),
+        Cause::Unreachable { object } => {
+            format!("{} is out of reach", describer.argument(&Term::Const(object.clone())))
+        }
+        Cause::UnknownObject { object } => format!("I do not see {}", describer.argument(object)),
+        Cause::Precondition { fact } => not_the_case(fact, describer),
+        Cause::PlanTooDeep { .. } => "its plan is too deep to simulate".to_owned(),
+    }
+}
+
+/// A precondition that does not hold, in words: `open(box1)` → "the box is not open";
+/// `color(box1,red)` → "the color of the box is not red"; anything else canonical.
+fn not_the_case(fact: &Term, describer: &mut Describer<'_>) -> String {
+    let name = fact.name().map(|n| spoken(n)).unwrap_or_default();
+    match fact.args() {
+        [subject] => format!("{} is not {name}", describer.argument(subject)),
+        [subject, value] => format!(
+            "the {name} of {} is not {}",
+            describer.argument(subject),
+            describer.argument(value)
+        ),
+        _ => format!("{fact} does not hold"),
+    }
+}
+
+/// "destroy" → "destroying", "get" → "getting", "pointTo" → "pointing to".
+pub fn gerund(verb: &str) -> String {
+    let words = spoken(verb);
+    let (head, tail) = match words.split_once(' ') {
+        Some((h, t)) => (h.to_owned(), format!(" {t}")),
+        None => (words.clone(), String::new()),
+    };
+    let chars: Vec<char> = head.chars().collect();
+    let is_vowel = |c: char| "aeiou".contains(c);
+    let n = chars.len();
+    let ing = if head.ends_with("ie") {
+        format!("{}ying", &head[..head.len() - 2])
+    } else if head.ends_with('e') && !head.ends_with("ee") && n > 2 {
+        format!("{}ing", &head[..head.len() - 1])
+    } else if n == 3 && !is_vowel(chars[0]) && is_vowel(chars[1]) && !is_vowel(chars[2]) && !"wxy".contains(chars[2]) {
+        // One short syllable ending consonant-vowel-consonant doubles its last letter: get, put.
+        format!("{head}{}ing", chars[2])
+    } else {
+        format!("{head}ing")
+    };
+    format!("{ing}{tail}")
+}
+
+/// "notebook" → "notebooks", "cash box" → "cash boxes".
+fn plural(noun: &str) -> String {
+    if ["s", "x", "z", "ch", "sh"].iter().any(|e| noun.ends_with(e)) {
+        format!("{noun}es")
+    } else {
+        format!("{noun}s")
+    }
+}
+
+fn capitalise(text: &str) -> String {
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(first) => first.to_uppercase().chain(chars).collect(),
+        None => String::new(),
+    }
+}
+
+/// The reason in fluent words; a norm's severity picks how strongly it is put.
+pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
+    let grave = reason.severity.unwrap_or(3) >= 4;
+    match &reason.cause {
+        Cause::ForbiddenAction { name, .. } => {
+            let rule = if grave { "is forbidden" } else { "is not allowed" };
+            format!("{} things {rule}", gerund(name))
+        }
+        Cause::ForbiddenState { .. } => {
+            if grave {
+                "it would lead to a forbidden state".to_owned()
+            } else {
+                "it would lead to a state I am not allowed to bring about".to_owned()
+            }
+        }
+        Cause::UnknownAction { verb } => format!("I don't know how to {}", spoken(verb)),
+        Cause::Unreachable { object } => format!(
+            "{} is out of my reach",
+            describer.argument(&Term::Const(object.clone()))
+        ),
+        Cause::UnknownObject { object } => format!("I can't see {}", describer.argument(object)),
+        Cause::Precondition { fact } => not_the_case(fact, describer),
+        Cause::PlanTooDeep { .. } => "the plan is too complex for me to check".to_owned(),
+    }
+}
+
+/// The words for one reason in the given style: what `reasons[].words` carries.
+pub fn reason_words(reason: &Reason, style: Style, describer: &mut Describer<'_>) -> String {
+    match style {
+        Style::Diarc => diarc_reason(reason, describer),
+        Style::Natural => natural_reason(reason, describer),
+    }
+}
+
+/// `I cannot {reading} because {reason}` (diarc).
+fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
+    format!(
+        "I cannot {} because {}",
+        i.reading,
+        diarc_reason(&i.outcome.reasons[0], describer)
+    )
+}
+
+/// How firmly a reading is turned down in the natural style, by its first reason: a norm's
+/// severity sets the tone (1–2 gentle, 3 plain, 4–5 firm); an inability is a plain "can't".
+fn natural_refusal(i: &Interpretation, describer: &mut Describer<'_>) -> String {
+    let reason = &i.outcome.reasons[0];
+    let why = natural_reason(reason, describer);
+    if !reason.is_norm_violation() {
+        return format!("I can't {}: {why}.", i.reading);
+    }
+    match reason.severity.unwrap_or(3) {
+        1 | 2 => format!("Sorry, I'd rather not {}: {why}.", i.reading),
+        3 => format!("I won't {}: {why}.", i.reading),
+        _ => format!("I will not {}. {}.", i.reading, capitalise(&why)),
+    }
+}
+
+/// When every reading is the same verb on one object of one type, turned down for the same
+/// first reason: "I won't destroy either notebook: destroying things is not allowed."
+fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Describer<'_>) -> Option<String> {
+    let first = &all[which[0]];
+    let verb = first.action.args().get(1)?.name()?.clone();
+    let same = which.iter().all(|&i| {
+        let a = &all[i];
+        let r = &a.outcome.reasons[0];
+        let r0 = &first.outcome.reasons[0];
+        a.action.args().get(1).and_then(Term::name) == Some(&verb)
+            && a.action.args().get(1).map(Term::arity) == Some(1)
+            && r.kind() == r0.kind()
+            && r.norm_id == r0.norm_id
+            && r.kind() != "unreachable"
+            && r.kind() != "unknown_object"
+    });
+    if !same {
+        return None;
+    }
+    let kinds: Vec<Option<String>> = which
+        .iter()
+        .map(|&i| {
+            let target = all[i].action.args().get(1)?.args().first()?.name()?.clone();
+            describer.kind_of(&target)
+        })
+        .collect();
+    let noun = kinds.first()?.clone()?;
+    if kinds.iter().any(|k| k.as_ref() != Some(&noun)) {
+        return None;
+    }
+    let reason = &first.outcome.reasons[0];
+    let why = natural_reason(reason, describer);
+    let quantity = if which.len() == 2 {
+        format!("either {noun}")
+    } else {
+        format!("any of the {}", plural(&noun))
+    };
+    let verb = spoken(&verb);
+    Some(if reason.is_norm_violation() {
+        match reason.severity.unwrap_or(3) {
+            1 | 2 => format!("Sorry, I'd rather not {verb} {quantity}: {why}."),
+            3 => format!("I won't {verb} {quantity}: {why}."),
+            _ => format!("I will not {verb} {quantity}. {}.", capitalise(&why)),
+        }
+    } else {
+        format!("I can't {verb} {quantity}: {why}.")
+    })
+}
+
+/// Joins phrases as a list: "a", "a or b", "a, b, or c".
+fn listed(items: &[String], conjunction: &str) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [a, b] => format!("{a} {conjunction} {b}"),
+        [rest @ .., last] => format!("{}, {conjunction} {last}", rest.join(", ")),
+    }
+}
+
+/// The utterance of a plan in the given style.
+pub fn utterance(plan: &Plan, all: &[Interpretation], style: Style, describer: &mut Describer<'_>) -> String {
+    match style {
+        Style::Diarc => diarc(plan, all, describer),
+        Style::Natural => natural(plan, all, describer),
+    }
+}
+
+fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> String {
+    let others = |others: &[usize], describer: &mut Describer<'_>| -> String {
+        others
+            .iter()
+            .map(|&i| format!(" {}.", diarc_cannot(&all[i], describer)))
+            .collect()
+    };
+    match plan {
+        Plan::Comply(_) => "Okay.".to_owned(),
+        Plan::Refuse(i) => format!("{}.", diarc_cannot(&all[*i], describer)),
+        Plan::Ask { offered, more } => {
+            let readings: Vec<&str> = offered.iter().map(|&i| all[i].reading.as_str()).collect();
+            let tail = if *more { " or something else" } else { "" };
+            format!(
+                "Do you mean that you want me to {}{tail}?",
+                readings.join(" or that you want me to ")
+            )
+        }
+        Plan::AskWhich { nouns } => {
+            let which: Vec<String> = nouns.iter().map(|n| format!("which {n}")).collect();
+            format!("I do not know {} you mean.", which.join(" and "))
+        }
+        Plan::Assume { chosen, others: rest } => format!(
+            "I am assuming you want me to {}.{}",
+            all[*chosen].reading,
+            others(rest, describer)
+        ),
+        Plan::Confirm { chosen, others: rest } => {
+            format!("Do you want me to {}?{}", all[*chosen].reading, others(rest, describer))
+        }
+        Plan::Explain(which) => {
+            let clauses: Vec<String> = which
+                .iter()
+                .map(|&i| diarc_cannot(&all[i], describer).trim_start_matches("I ").to_owned())
+                .collect();
+            format!("I believe that I {}.", clauses.join(" and that I "))
+        }
+        Plan::Unresolved(words) => format!("I do not know what you mean by {}.", words.join(" and ")),
+    }
+}
+
+fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> String {
+    let others = |others: &[usize], describer: &mut Describer<'_>| -> String {
+        others
+            .iter()
+            .map(|&i| format!(" {}", natural_refusal(&all[i], describer)))
+            .collect()
+    };
+    match plan {
+        Plan::Comply(i) => format!("Okay, I will {}.", all[*i].reading),
+        Plan::Refuse(i) => natural_refusal(&all[*i], describer),
+        Plan::Ask { offered, more } => {
+            // One verb throughout: say it once and list what it applies to.
+            let verbs: Vec<Option<&Term>> = offered.iter().map(|&i| all[i].action.args().get(1)).collect();
+            let one_verb = verbs
+                .windows(2)
+                .all(|w| w[0].and_then(Term::name) == w[1].and_then(Term::name));
+            let (lead, mut items): (String, Vec<String>) = match verbs.first().copied().flatten() {
+                Some(action) if one_verb && action.arity() > 0 => (
+                    format!("{} ", spoken(action.name().map(|n| &**n).unwrap_or_default())),
+                    offered.iter().map(|&i| all[i].description.clone()).collect(),
+                ),
+                _ => (String::new(), offered.iter().map(|&i| all[i].reading.clone()).collect()),
+            };
+            if *more {
+                items.push("something else".to_owned());
+            }
+            format!("Do you want me to {lead}{}?", listed(&items, "or"))
+        }
+        Plan::AskWhich { nouns } => {
+            let which: Vec<String> = nouns.iter().map(|n| format!("which {n}")).collect();
+            format!("{} do you mean?", capitalise(&listed(&which, "and")))
+        }
+        Plan::Assume { chosen, others: rest } => {
+            format!("I'll {}.{}", all[*chosen].reading, others(rest, describer))
+        }
+        Plan::Confirm { chosen, others: rest } => {
+            format!("Should I {}?{}", all[*chosen].reading, others(rest, describer))
+        }
+        Plan::Explain(which) => natural_grouped(which, all, describer).unwrap_or_else(|| {
+            which
+                .iter()
+                .map(|&i| natural_refusal(&all[i], describer))
+                .collect::<Vec<_>>()
+                .join(" ")
+        }),
+        Plan::Unresolved(words) => format!("I can't find {} here.", listed(words, "or")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gerunds_and_plurals() {
+        for (verb, ing) in [
+            ("destroy", "destroying"),
+            ("get", "getting"),
+            ("put", "putting"),
+            ("steal", "stealing"),
+            ("pointTo", "pointing to"),
+            ("take", "taking"),
+            ("see", "seeing"),
+            ("tie", "tying"),
+            ("fix", "fixing"),
+        ] {
+            assert_eq!(gerund(verb), ing);
+        }
+        assert_eq!(plural("notebook"), "notebooks");
+        assert_eq!(plural("cash box"), "cash boxes");
+        assert_eq!(listed(&["a".into(), "b".into(), "c".into()], "or"), "a, b, or c");
+    }
+}
