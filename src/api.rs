@@ -10,12 +10,14 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use crate::engine::check::Check;
 use crate::engine::clarify::{
     Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
     Reference, Request, SinglePermissible, Strategy,
 };
 use crate::engine::norms::{Norm, NormInput, NormKind};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
+use crate::engine::simulate::Reason;
 use crate::engine::speech::Style;
 use crate::engine::term::{Sym, Term, is_constant_name};
 use crate::error::Error;
@@ -811,6 +813,21 @@ pub struct ReasonDto {
     pub words: String,
 }
 
+/// Reasons with their words, as both decisions and checks report them.
+fn reason_dtos(reasons: &[Reason], words: &[String]) -> Vec<ReasonDto> {
+    reasons
+        .iter()
+        .zip(words)
+        .map(|(reason, words)| ReasonDto {
+            kind: reason.kind().to_owned(),
+            detail: reason.detail(),
+            norm_id: reason.norm_id,
+            severity: reason.severity,
+            words: words.clone(),
+        })
+        .collect()
+}
+
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct InterpretationDto {
     pub action: String,
@@ -830,19 +847,7 @@ impl From<&Interpretation> for InterpretationDto {
             description: i.description.clone(),
             permissible: i.permissible(),
             feasible: i.feasible(),
-            reasons: i
-                .outcome
-                .reasons
-                .iter()
-                .zip(&i.reason_words)
-                .map(|(reason, words)| ReasonDto {
-                    kind: reason.kind().to_owned(),
-                    detail: reason.detail(),
-                    norm_id: reason.norm_id,
-                    severity: reason.severity,
-                    words: words.clone(),
-                })
-                .collect(),
+            reasons: reason_dtos(&i.outcome.reasons, &i.reason_words),
             plan: i.outcome.plan.iter().map(Term::to_string).collect(),
             score: i.score,
         }
@@ -901,6 +906,122 @@ impl DecisionDto {
             limits: decision.limits.as_ref().map(LimitsDto::from),
             norm_version: decision.norm_version,
             text,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Check: the next step, or the rest of a plan, while acting
+
+/// Steps to check in order from the current scene, e.g. `["get(object4)", "put(object4,tray1)"]`.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CheckBody {
+    pub scene: SceneBody,
+    /// Ground action terms, 1 to 1000, done in this order.
+    pub steps: Vec<String>,
+    #[serde(default)]
+    pub context: Option<String>,
+    #[serde(default)]
+    pub speaker_roles: Option<Vec<String>>,
+    #[serde(default)]
+    pub options: Option<CheckOptionsBody>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CheckOptionsBody {
+    /// `diarc` (default) or `natural`.
+    #[serde(default)]
+    pub style: Option<StyleBody>,
+}
+
+pub const MAX_STEPS: usize = 1000;
+
+/// A check request, valid and ready for the engine.
+#[derive(Debug)]
+pub struct CheckInput {
+    pub scene: Scene,
+    pub steps: Vec<Term>,
+    pub context: String,
+    pub speaker_roles: Vec<String>,
+    pub style: Style,
+}
+
+impl TryFrom<CheckBody> for CheckInput {
+    type Error = Error;
+
+    fn try_from(body: CheckBody) -> Result<Self, Error> {
+        let context = context_of(body.context)?;
+        let speaker_roles = roles_of(body.speaker_roles)?;
+        let scene = body.scene.into_scene()?;
+        if body.steps.is_empty() || body.steps.len() > MAX_STEPS {
+            return Err(Error::invalid("/steps", format!("give 1 to {MAX_STEPS} steps")));
+        }
+        let steps = body
+            .steps
+            .iter()
+            .enumerate()
+            .map(|(i, text)| {
+                let field = format!("/steps/{i}");
+                let step = Term::parse(text).map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
+                if step.is_var() || !step.is_ground() {
+                    return Err(Error::invalid(field, "a step is a ground action, such as get(object4)"));
+                }
+                Ok(step)
+            })
+            .collect::<Result<_, _>>()?;
+        let style = match body.options.and_then(|o| o.style) {
+            None | Some(StyleBody::Diarc) => Style::Diarc,
+            Some(StyleBody::Natural) => Style::Natural,
+        };
+        Ok(CheckInput {
+            scene,
+            steps,
+            context,
+            speaker_roles,
+            style,
+        })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct StepCheckDto {
+    pub step: String,
+    pub permissible: bool,
+    pub feasible: bool,
+    pub reasons: Vec<ReasonDto>,
+    /// The primitive steps simulated for it, in order.
+    pub plan: Vec<String>,
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct CheckDto {
+    /// Every step is permissible and feasible under the norms in force now.
+    pub permitted: bool,
+    pub steps: Vec<StepCheckDto>,
+    /// "Okay.", or why not the first step that may not be done.
+    pub utterance: String,
+    pub norm_version: i64,
+}
+
+impl From<&Check> for CheckDto {
+    fn from(check: &Check) -> Self {
+        CheckDto {
+            permitted: check.permitted(),
+            steps: check
+                .steps
+                .iter()
+                .map(|s| StepCheckDto {
+                    step: s.step.to_string(),
+                    permissible: s.outcome.permissible(),
+                    feasible: s.outcome.feasible(),
+                    reasons: reason_dtos(&s.outcome.reasons, &s.reason_words),
+                    plan: s.outcome.plan.iter().map(Term::to_string).collect(),
+                })
+                .collect(),
+            utterance: check.utterance.clone(),
+            norm_version: check.norm_version,
         }
     }
 }

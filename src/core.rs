@@ -7,10 +7,11 @@
 use std::sync::{Arc, RwLock};
 use std::time::Instant;
 
-use crate::api::ClarifyInput;
+use crate::api::{CheckInput, ClarifyInput};
 use crate::engine::Library;
+use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
-use crate::engine::norms::{CompiledNorms, Norm, NormInput};
+use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
 use crate::error::Error;
 use crate::storage::NormStore;
 
@@ -64,6 +65,21 @@ impl Core {
         .await
         .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??;
         Ok(decision)
+    }
+
+    /// Checks steps while acting, under the norms in force now. Fails closed like `clarify`.
+    pub async fn check(&self, input: CheckInput) -> Result<Check, Error> {
+        let norms = self.norms().await?;
+        let library = self.library.clone();
+        tokio::task::spawn_blocking(move || {
+            let scope = Scope {
+                context: &input.context,
+                roles: &input.speaker_roles,
+            };
+            check(&input.steps, &input.scene, &norms, &library, scope, input.style)
+        })
+        .await
+        .map_err(|e| Error::Internal(format!("the check task failed: {e}")))
     }
 
     /// Validates and stores a norm; nothing is written unless every field is valid.

@@ -4,6 +4,7 @@
 //! as arguments, so it is tested without a runtime.
 
 pub mod action;
+pub mod check;
 pub mod clarify;
 pub mod describe;
 pub mod norms;

@@ -245,9 +245,14 @@ impl Run<'_> {
 /// (3) whether the verb is known; (4) each step: the step against the forbidden actions, the
 /// states its effects enter, its needs. It goes on past failures so that every reason is found.
 pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
+    simulate_from(env, world.clone(), action).0
+}
+
+/// [`simulate`], handing back the world as the simulation left it, for a next step to start in.
+pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, World) {
     let mut run = Run {
         env,
-        world: world.clone(),
+        world,
         outcome: Outcome::default(),
     };
     run.check_action(action);
@@ -259,5 +264,5 @@ pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
         run.world.retract(&done);
     }
     run.run(action, true, 0);
-    run.outcome
+    (run.outcome, run.world)
 }

@@ -451,3 +451,70 @@ async fn bad_options_answers_and_roles_name_their_field() {
     }
     assert!(app.norms().await.is_empty());
 }
+
+#[tokio::test]
+async fn checks_while_acting_use_the_norms_in_force_now_and_carry_effects_between_steps() {
+    let app = with_paper_norms().await;
+    let check = |steps: Value| json!({"scene": lab_scene(), "steps": steps});
+    let post = |body: Value| {
+        let app = &app;
+        async move {
+            let response = app.post("/v1/check", &body).await;
+            assert_eq!(response.status(), StatusCode::OK, "{body}");
+            response.json::<Value>().await.unwrap()
+        }
+    };
+
+    let ok = post(check(json!(["get(object4)"]))).await;
+    assert_eq!(ok["permitted"], true);
+    assert_eq!(ok["utterance"], "Okay.");
+    assert_eq!(ok["steps"][0]["plan"], json!(["get(object4)"]));
+    assert_eq!(ok["norm_version"], 3);
+
+    let fragile = post(check(json!(["get(object4)", "get(object3)"]))).await;
+    assert_eq!(fragile["permitted"], false);
+    assert_eq!(fragile["steps"][0]["permissible"], true);
+    assert_eq!(fragile["steps"][1]["reasons"][0]["kind"], "forbidden_state");
+    assert_eq!(
+        fragile["utterance"],
+        "I cannot get the fragile vase because it requires a forbidden state."
+    );
+
+    // Effects carry over: destroying what the robot holds is forbidden, and the get before it
+    // is what makes it held.
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "smash(X)", "when": ["holding(self,X)"]}))
+        .await;
+    let alone = post(check(json!(["smash(object5)"]))).await;
+    assert_eq!(alone["steps"][0]["permissible"], true, "not held yet: only unknown");
+    assert_eq!(alone["steps"][0]["reasons"][0]["kind"], "unknown_action");
+    let held = post(check(json!(["get(object5)", "smash(object5)"]))).await;
+    assert_eq!(held["steps"][1]["permissible"], false);
+    assert_eq!(held["steps"][1]["reasons"][0]["words"], "smash is forbidden action");
+
+    // A norm added partway through is in force for the next check.
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "get(object4)"}))
+        .await;
+    let now = post(check(json!(["get(object4)"]))).await;
+    assert_eq!(now["permitted"], false);
+    assert_eq!(now["norm_version"], 5);
+
+    let mut natural = check(json!(["get(object3)"]));
+    natural["options"] = json!({"style": "natural"});
+    assert_eq!(
+        post(natural).await["utterance"],
+        "I can't go on to get the fragile vase: it would lead to a state I am not allowed to bring about."
+    );
+
+    for (steps, field) in [
+        (json!([]), "/steps"),
+        (json!(["get(X)"]), "/steps/0"),
+        (json!(["get(object4)", "get("]), "/steps/1"),
+    ] {
+        assert_problem(
+            app.post("/v1/check", &check(steps)).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+    }
+}

@@ -381,3 +381,42 @@ async fn rest_keeps_its_own_404_beside_grpc_and_unknown_grpc_methods_are_unimple
     let lab = json!({"directive": {"action": "get", "arguments": [{"type": "mug"}]}, "scene": lab_scene()});
     assert_eq!(app.clarify(&lab).await["decision"], "comply");
 }
+
+#[tokio::test]
+async fn check_over_grpc_is_the_twin_of_rest() {
+    let app = spawn_app().await;
+    for norm in paper_demo()["norms"].as_array().unwrap() {
+        app.add_norm(norm).await;
+    }
+    let body = json!({"scene": lab_scene(), "steps": ["get(object4)", "get(object3)"]});
+    let rest: Value = app.post("/v1/check", &body).await.json().await.unwrap();
+    let scene = clarify_request(&json!({"directive": {}, "scene": lab_scene()})).scene;
+    let mut clarifier = ClarifierClient::new(channel(&app).await);
+    let grpc = clarifier
+        .check(pb::CheckRequest {
+            scene,
+            steps: vec!["get(object4)".into(), "get(object3)".into()],
+            ..Default::default()
+        })
+        .await
+        .expect("check over gRPC")
+        .into_inner();
+    assert_eq!(grpc.permitted, rest["permitted"].as_bool().unwrap());
+    assert_eq!(grpc.utterance, rest["utterance"].as_str().unwrap());
+    assert_eq!(grpc.norm_version, rest["norm_version"].as_i64().unwrap());
+    let kinds: Vec<Vec<String>> = grpc
+        .steps
+        .iter()
+        .map(|s| s.reasons.iter().map(|r| r.kind.clone()).collect())
+        .collect();
+    assert_eq!(kinds, vec![vec![], vec!["forbidden_state".to_owned()]]);
+    let status = clarifier
+        .check(pb::CheckRequest {
+            steps: vec!["get(object4)".into()],
+            ..Default::default()
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), Code::InvalidArgument);
+    assert_eq!(status.metadata().get("field").unwrap(), "/scene");
+}

@@ -43,6 +43,7 @@ fn the_document_has_every_operation_of_the_contract() {
             "GET /healthz",
             "GET /v1/norms",
             "GET /v1/norms/{id}",
+            "POST /v1/check",
             "POST /v1/clarify",
             "POST /v1/norms",
         ]

@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 
 use super::pb;
 use crate::api::{
-    AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, NormBody, NormDto,
-    ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody, SinglePermissibleBody,
-    StrategyBody, StyleBody,
+    AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
+    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
+    ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
 };
 use crate::error::Error;
 
@@ -279,6 +279,52 @@ impl From<NormDto> for pb::Norm {
             note: n.note,
             roles: n.roles,
             exempt_roles: n.exempt_roles,
+        }
+    }
+}
+
+impl TryFrom<pb::CheckRequest> for CheckBody {
+    type Error = Error;
+
+    fn try_from(request: pb::CheckRequest) -> Result<Self, Error> {
+        let scene = request.scene.ok_or_else(|| missing("/scene"))?;
+        let style = word(
+            "/options/style",
+            request.options.and_then(|o| o.style),
+            |t| match t {
+                "diarc" => Some(StyleBody::Diarc),
+                "natural" => Some(StyleBody::Natural),
+                _ => None,
+            },
+            "`diarc` or `natural`",
+        )?;
+        Ok(CheckBody {
+            scene: scene.try_into()?,
+            steps: request.steps,
+            context: request.context,
+            speaker_roles: (!request.speaker_roles.is_empty()).then_some(request.speaker_roles),
+            options: style.map(|style| CheckOptionsBody { style: Some(style) }),
+        })
+    }
+}
+
+impl From<CheckDto> for pb::CheckResponse {
+    fn from(c: CheckDto) -> Self {
+        pb::CheckResponse {
+            permitted: c.permitted,
+            steps: c
+                .steps
+                .into_iter()
+                .map(|s| pb::StepCheck {
+                    step: s.step,
+                    permissible: s.permissible,
+                    feasible: s.feasible,
+                    reasons: s.reasons.into_iter().map(Into::into).collect(),
+                    plan: s.plan,
+                })
+                .collect(),
+            utterance: c.utterance,
+            norm_version: c.norm_version,
         }
     }
 }

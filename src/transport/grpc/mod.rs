@@ -9,7 +9,7 @@ mod convert;
 
 use tonic::{Request, Response, Status};
 
-use crate::api::{ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto};
+use crate::api::{CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto};
 use crate::error::Error;
 use crate::transport::AppState;
 
@@ -46,6 +46,12 @@ impl Clarifier for ClarifierService {
         let text = input.text.take();
         let decision = self.state.core.clarify(input).await?;
         Ok(Response::new(DecisionDto::new(&decision, text).into()))
+    }
+
+    async fn check(&self, request: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {
+        let input = CheckInput::try_from(CheckBody::try_from(request.into_inner())?)?;
+        let check = self.state.core.check(input).await?;
+        Ok(Response::new(CheckDto::from(&check).into()))
     }
 }
 

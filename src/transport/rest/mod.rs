@@ -15,7 +15,9 @@ use utoipa::OpenApi;
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
-use crate::api::{ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json};
+use crate::api::{
+    CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
+};
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::AppState;
 
@@ -29,6 +31,7 @@ fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(list_norms, create_norm))
         .routes(routes!(get_norm, delete_norm))
         .routes(routes!(clarify))
+        .routes(routes!(check))
 }
 
 /// The OpenAPI 3.1 document of the REST API, as `openapi/openapi.json` holds it.
@@ -202,4 +205,23 @@ async fn clarify(
     let text = input.text.take();
     let decision = app.core.clarify(input).await?;
     Ok(Json(DecisionDto::new(&decision, text)))
+}
+
+#[utoipa::path(post, path = "/v1/check", tag = "clarify",
+    summary = "Check the next step, or the rest of a plan, under the norms in force now",
+    description = "For a robot partway through a plan: simulates the given steps in order from the current scene and says whether each is still permissible and feasible, with reasons and the norm version.",
+    request_body(content = CheckBody, example = json!({"scene": {"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": [{"id": "object4", "type": "vase", "position": [0.6, 0.35, 0.85]}]}, "steps": ["get(object4)"]})),
+    responses(
+        (status = 200, description = "Each step's verdict, and whether all may be done", body = CheckDto,
+         example = json!({"permitted": true, "steps": [{"step": "get(object4)", "permissible": true, "feasible": true, "reasons": [], "plan": ["get(object4)"]}], "utterance": "Okay.", "norm_version": 3})),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn check(State(app): State<AppState>, JsonBody(body): JsonBody<CheckBody>) -> Result<Json<CheckDto>, Error> {
+    let input = CheckInput::try_from(body)?;
+    let check = app.core.check(input).await?;
+    Ok(Json(CheckDto::from(&check)))
 }
