@@ -276,6 +276,16 @@ pub struct AgentBody {
     pub position: [f64; 3],
     /// Metres.
     pub reach: f64,
+    /// Widest object, metres, the gripper can close around; absent: grasp is not checked.
+    #[serde(default)]
+    pub gripper_aperture: Option<f64>,
+    /// Heaviest object, kilograms, the arm can lift; absent: payload is not checked.
+    #[serde(default)]
+    pub payload: Option<f64>,
+    /// Radius, metres, of the ball the gripper sweeps on its way to an object; absent: clearance
+    /// is not checked.
+    #[serde(default)]
+    pub gripper_size: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -296,6 +306,9 @@ pub struct ObjectBody {
     #[serde(default)]
     #[schema(min_items = 4, max_items = 4)]
     pub rotation: Option<[f64; 4]>,
+    /// Kilograms; absent: payload is not checked for this object.
+    #[serde(default)]
+    pub mass: Option<f64>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -460,7 +473,7 @@ fn positive(field: &str, value: f64) -> Result<(), Error> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(field, "must be a positive number of metres"))
+        Err(Error::invalid(field, "must be a positive number"))
     }
 }
 
@@ -485,6 +498,15 @@ impl SceneBody {
                 "/scene/agent/reach",
                 "must be a non-negative number of metres",
             ));
+        }
+        for (field, value) in [
+            ("/scene/agent/gripper_aperture", self.agent.gripper_aperture),
+            ("/scene/agent/payload", self.agent.payload),
+            ("/scene/agent/gripper_size", self.agent.gripper_size),
+        ] {
+            if let Some(v) = value {
+                positive(field, v)?;
+            }
         }
         let mut seen = HashSet::new();
         let mut objects = Vec::with_capacity(self.objects.len());
@@ -543,7 +565,16 @@ impl SceneBody {
                     Some(q.map(|c| c / norm))
                 }
             };
+            if let Some(mass) = o.mass
+                && !(mass.is_finite() && mass >= 0.0)
+            {
+                return Err(Error::invalid(
+                    format!("{at}/mass"),
+                    "must be a non-negative number of kilograms",
+                ));
+            }
             objects.push(Object {
+                mass: o.mass,
                 id: o.id,
                 kind: o.kind,
                 properties: o.properties,
@@ -567,6 +598,9 @@ impl SceneBody {
                 id: agent_id,
                 position: self.agent.position,
                 reach: self.agent.reach,
+                gripper_aperture: self.agent.gripper_aperture,
+                payload: self.agent.payload,
+                gripper_size: self.agent.gripper_size,
             },
             objects,
             facts,

@@ -21,8 +21,14 @@ pub struct ActionDef {
     pub name: Sym,
     /// Parameter variables, bound positionally to the action's arguments.
     pub params: Vec<Sym>,
-    /// Parameters whose object must be within the agent's reach when the verb itself runs.
+    /// Parameters whose object must be within the agent's reach, with a clear path to it, when
+    /// the verb itself runs.
     pub reach: Vec<Sym>,
+    /// Parameters whose object the gripper closes around: it must fit the aperture and not
+    /// exceed the payload.
+    pub grasp: Vec<Sym>,
+    /// `(item, support)`: the verb sets the item on the support, which must have room for it.
+    pub place: Option<(Sym, Sym)>,
     /// Facts (over the parameters; other variables are existential) that must hold when the verb
     /// itself runs.
     pub preconditions: Vec<Term>,
@@ -79,6 +85,8 @@ impl Library {
             name: Sym::from(name),
             params: vec![Sym::from("X")],
             reach: vec![Sym::from("X")],
+            grasp: vec![],
+            place: None,
             preconditions: vec![],
             steps: vec![Step::Itself],
             adds: adds.iter().map(|t| term(t)).collect(),
@@ -86,9 +94,13 @@ impl Library {
             joiner: None,
         };
         let mut library = Library::default();
-        library.insert(handle("get", &["holding(self,X)"]));
+        let grasping = |def: ActionDef| ActionDef {
+            grasp: vec![Sym::from("X")],
+            ..def
+        };
+        library.insert(grasping(handle("get", &["holding(self,X)"])));
         library.insert(handle("destroy", &["destroyed(X)"]));
-        library.insert(handle("steal", &["holding(self,X)"]));
+        library.insert(grasping(handle("steal", &["holding(self,X)"])));
         library.insert(ActionDef {
             reach: vec![],
             ..handle("pointTo", &[])
@@ -97,6 +109,9 @@ impl Library {
             name: Sym::from("put"),
             params: vec![Sym::from("X"), Sym::from("Y")],
             reach: vec![Sym::from("X"), Sym::from("Y")],
+            // X was grasped by the get step.
+            grasp: vec![],
+            place: Some((Sym::from("X"), Sym::from("Y"))),
             preconditions: vec![],
             steps: vec![Step::Do(term("get(X)")), Step::Itself],
             adds: vec![term("on(X,Y)")],

@@ -8,8 +8,8 @@ use std::sync::OnceLock;
 
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
 use parry3d::na::{Quaternion, UnitQuaternion};
-use parry3d::query::PointQuery;
-use parry3d::shape::{Ball, Cuboid, Cylinder};
+use parry3d::query::{self, ShapeCastOptions};
+use parry3d::shape::{Ball, SharedShape};
 
 use super::term::Term;
 
@@ -21,6 +21,13 @@ pub struct Agent {
     pub position: [f64; 3],
     /// Largest distance, metres, from `position` to an object's shape the gripper can still touch.
     pub reach: f64,
+    /// Widest object, metres, the gripper can close around; `None`: grasp is not checked.
+    pub gripper_aperture: Option<f64>,
+    /// Heaviest object, kilograms, the arm can lift; `None`: payload is not checked.
+    pub payload: Option<f64>,
+    /// Radius, metres, of the ball the gripper sweeps from `position` to an object; `None`:
+    /// clearance is not checked.
+    pub gripper_size: Option<f64>,
 }
 
 /// An object's shape, in its own frame, centred on the object's `position`.
@@ -48,6 +55,8 @@ pub struct Object {
     pub shape: Option<Shape>,
     /// Unit quaternion `[x, y, z, w]` turning the shape about its centre; `None` is the identity.
     pub rotation: Option<[f64; 4]>,
+    /// Kilograms; `None`: payload is not checked for this object.
+    pub mass: Option<f64>,
 }
 
 /// A validated scene: ids are unique, geometry is finite and positive.
@@ -60,6 +69,8 @@ pub struct Scene {
     by_id: HashMap<String, usize>,
     /// Reachability per object, computed at most once per request and only for objects asked about.
     reach_cache: Vec<OnceLock<bool>>,
+    /// The first object in the way to each object, likewise computed at most once.
+    clearance_cache: Vec<OnceLock<Option<usize>>>,
 }
 
 impl Scene {
@@ -67,12 +78,14 @@ impl Scene {
     pub fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
         let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
         let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
+        let clearance_cache = objects.iter().map(|_| OnceLock::new()).collect();
         Scene {
             agent,
             objects,
             facts,
             by_id,
             reach_cache,
+            clearance_cache,
         }
     }
 
@@ -112,20 +125,30 @@ impl Scene {
         )
     }
 
+    /// The object in the way when the gripper (a ball of `gripper_size`) moves in a straight line
+    /// from the agent's position to the object: the first other object it would touch before
+    /// touching the target. Objects the ball already overlaps at the start (the robot's own
+    /// table, say) are not in the way. `None` when the path is clear or clearance is not checked.
+    pub fn blocked_by(&self, id: &str) -> Option<&Object> {
+        let size = self.agent.gripper_size?;
+        let index = self.index_of(id)?;
+        let blocker = *self.clearance_cache[index].get_or_init(|| first_in_the_way(self, index, size));
+        blocker.map(|i| &self.objects[i])
+    }
+
     /// Objects of the given type other than `id`, in scene order.
     pub fn same_kind<'a>(&'a self, kind: &'a str, id: &'a str) -> impl Iterator<Item = &'a Object> + 'a {
         self.objects.iter().filter(move |o| o.kind == kind && o.id != id)
     }
 }
 
-/// Distance in metres from `point` (world frame) to the object's solid shape; zero inside it.
-pub fn distance_to_shape(object: &Object, point: &[f64; 3]) -> f64 {
-    let p = Point::new(point[0] as Real, point[1] as Real, point[2] as Real);
-    let centre = Vector::new(
-        object.position[0] as Real,
-        object.position[1] as Real,
-        object.position[2] as Real,
-    );
+fn point(p: &[f64; 3]) -> Point<Real> {
+    Point::new(p[0] as Real, p[1] as Real, p[2] as Real)
+}
+
+/// The object's shape as parry sees it, with its pose in the world frame; `None` for a point.
+fn parry_shape(object: &Object) -> Option<(Isometry<Real>, SharedShape)> {
+    let centre = point(&object.position).coords;
     let rotation = match object.rotation {
         Some([x, y, z, w]) => {
             UnitQuaternion::from_quaternion(Quaternion::new(w as Real, x as Real, y as Real, z as Real))
@@ -133,21 +156,105 @@ pub fn distance_to_shape(object: &Object, point: &[f64; 3]) -> f64 {
         None => UnitQuaternion::identity(),
     };
     let pose = Isometry::from_parts(Translation::from(centre), rotation);
-    let distance = match &object.shape {
-        None => return euclid(&object.position, point),
-        Some(Shape::Ball { radius }) => Ball::new(*radius as Real).distance_to_point(&pose, &p, true),
-        Some(Shape::Cuboid { half_extents: h }) => {
-            Cuboid::new(Vector::new(h[0] as Real, h[1] as Real, h[2] as Real)).distance_to_point(&pose, &p, true)
-        }
-        Some(Shape::Cylinder { radius, half_height }) => {
+    Some(match object.shape.as_ref()? {
+        Shape::Ball { radius } => (pose, SharedShape::ball(*radius as Real)),
+        Shape::Cuboid { half_extents: h } => (pose, SharedShape::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)),
+        Shape::Cylinder { radius, half_height } => {
             // parry's cylinder stands along its local y; ours along the object's z. A quarter
             // turn about x carries local y onto z before the object's own rotation applies.
             let y_to_z = UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::FRAC_PI_2);
             let pose = pose * Isometry::from_parts(Translation::identity(), y_to_z);
-            Cylinder::new(*half_height as Real, *radius as Real).distance_to_point(&pose, &p, true)
+            (pose, SharedShape::cylinder(*half_height as Real, *radius as Real))
         }
+    })
+}
+
+/// Distance in metres from `point` (world frame) to the object's solid shape; zero inside it.
+pub fn distance_to_shape(object: &Object, at: &[f64; 3]) -> f64 {
+    match parry_shape(object) {
+        None => euclid(&object.position, at),
+        Some((pose, shape)) => f64::from(shape.distance_to_point(&pose, &point(at), true)),
+    }
+}
+
+/// The narrowest full width of the object's shape across its own axes, metres: what a
+/// parallel gripper must open to. A point object is 0 wide.
+pub fn grasp_width(object: &Object) -> f64 {
+    match &object.shape {
+        None => 0.0,
+        Some(Shape::Ball { radius }) | Some(Shape::Cylinder { radius, .. }) => 2.0 * radius,
+        Some(Shape::Cuboid { half_extents: h }) => 2.0 * h[0].min(h[1]).min(h[2]),
+    }
+}
+
+/// Whether `item` fits on top of `support`: the item's footprint (the x and y extents of its
+/// world-frame bounding box) fits within the support's, in either orientation about z. A ball
+/// has no flat top; a point item fits on any support with a shape.
+pub fn room_on(support: &Object, item: &Object) -> bool {
+    let Some((support_pose, support_shape)) = parry_shape(support) else {
+        return false;
     };
-    f64::from(distance)
+    if matches!(support.shape, Some(Shape::Ball { .. })) {
+        return false;
+    }
+    let footprint = |pose: &Isometry<Real>, shape: &SharedShape| {
+        let aabb = shape.compute_aabb(pose);
+        let extents = aabb.extents();
+        let (a, b) = (extents.x, extents.y);
+        if a <= b { (a, b) } else { (b, a) }
+    };
+    let (room_a, room_b) = footprint(&support_pose, &support_shape);
+    match parry_shape(item) {
+        None => true,
+        Some((pose, shape)) => {
+            let (need_a, need_b) = footprint(&pose, &shape);
+            need_a <= room_a && need_b <= room_b
+        }
+    }
+}
+
+/// See [`Scene::blocked_by`].
+fn first_in_the_way(scene: &Scene, target: usize, size: f64) -> Option<usize> {
+    let start = point(&scene.agent.position);
+    let goal = &scene.objects[target];
+    let offset = point(&goal.position) - start;
+    let length = offset.norm();
+    if length <= Real::EPSILON {
+        return None;
+    }
+    let direction = offset / length;
+    let gripper = Ball::new(size as Real);
+    let at_start = Isometry::translation(start.x, start.y, start.z);
+    let options = ShapeCastOptions::with_max_time_of_impact(length);
+    // Time (in metres travelled, at unit speed) until the gripper touches an object's shape.
+    let time_to = |object: &Object| -> Option<Real> {
+        let (pose, shape) = parry_shape(object)?;
+        if query::intersection_test(&at_start, &gripper, &pose, shape.as_ref()).unwrap_or(false) {
+            return None;
+        }
+        let hit = query::cast_shapes(
+            &at_start,
+            &direction,
+            &gripper,
+            &pose,
+            &Vector::zeros(),
+            shape.as_ref(),
+            options,
+        );
+        hit.ok().flatten().map(|h| h.time_of_impact)
+    };
+    let reach_goal = match parry_shape(goal) {
+        Some(_) => time_to(goal).unwrap_or(0.0),
+        None => (length - size as Real).max(0.0),
+    };
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != target)
+        .filter_map(|(i, o)| time_to(o).filter(|t| *t + 1e-6 < reach_goal).map(|t| (i, t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .map(|(i, _)| i)
 }
 
 fn euclid(a: &[f64; 3], b: &[f64; 3]) -> f64 {
@@ -190,6 +297,7 @@ mod tests {
             position,
             shape,
             rotation,
+            mass: None,
         }
     }
 

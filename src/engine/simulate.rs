@@ -6,7 +6,7 @@
 
 use super::action::{Library, Step};
 use super::norms::{CompiledNorms, Scope};
-use super::scene::Scene;
+use super::scene::{Scene, grasp_width, room_on};
 use super::term::{Subst, Sym, Term};
 use super::world::World;
 
@@ -24,6 +24,14 @@ pub enum Cause {
     UnknownAction { verb: Sym },
     /// The object is farther than the agent's reach.
     Unreachable { object: Sym },
+    /// Another object is in the gripper's way to the object.
+    Blocked { object: Sym, by: Sym },
+    /// The object is wider than the gripper opens.
+    TooWide { object: Sym },
+    /// The object is heavier than the arm's payload.
+    TooHeavy { object: Sym },
+    /// The support has no room on top for the item.
+    NoRoom { item: Sym, support: Sym },
     /// A handling step names something that is not an object of the scene.
     UnknownObject { object: Term },
     /// A verb's precondition does not hold when it would run.
@@ -57,6 +65,10 @@ impl Reason {
             Cause::ForbiddenState { .. } => "forbidden_state",
             Cause::UnknownAction { .. } => "unknown_action",
             Cause::Unreachable { .. } => "unreachable",
+            Cause::Blocked { .. } => "blocked",
+            Cause::TooWide { .. } => "too_wide",
+            Cause::TooHeavy { .. } => "too_heavy",
+            Cause::NoRoom { .. } => "no_room",
             Cause::UnknownObject { .. } => "unknown_object",
             Cause::Precondition { .. } => "precondition",
             Cause::PlanTooDeep { .. } => "plan_too_deep",
@@ -69,7 +81,11 @@ impl Reason {
             Cause::ForbiddenAction { step, .. } => step.to_string(),
             Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.to_string(),
             Cause::UnknownAction { verb } => verb.to_string(),
-            Cause::Unreachable { object } => object.to_string(),
+            Cause::Unreachable { object } | Cause::TooWide { object } | Cause::TooHeavy { object } => {
+                object.to_string()
+            }
+            Cause::Blocked { object, by } => format!("{object} blocked by {by}"),
+            Cause::NoRoom { item, support } => format!("no room for {item} on {support}"),
             Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
         }
     }
@@ -81,6 +97,14 @@ impl Reason {
             Cause::ForbiddenState { fact } => ("forbiddenState", fact.clone()),
             Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
             Cause::Unreachable { object } => ("unreachable", Term::Const(object.clone())),
+            Cause::Blocked { object, by } => {
+                return Term::compound("blocked", vec![Term::Const(object.clone()), Term::Const(by.clone())]);
+            }
+            Cause::TooWide { object } => ("tooWide", Term::Const(object.clone())),
+            Cause::TooHeavy { object } => ("tooHeavy", Term::Const(object.clone())),
+            Cause::NoRoom { item, support } => {
+                return Term::compound("noRoom", vec![Term::Const(item.clone()), Term::Const(support.clone())]);
+            }
             Cause::UnknownObject { object } => ("unknownObject", object.clone()),
             Cause::Precondition { fact } => ("precondition", fact.clone()),
             Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
@@ -213,21 +237,52 @@ impl Run<'_> {
             }
         }
         self.check_entered(&new_facts);
+        let scene = self.env.scene;
+        // The scene object a parameter is bound to, if any.
+        let object_of = |param: &Sym| match bindings.get(param) {
+            Some(Term::Const(id)) => scene.object(id),
+            _ => None,
+        };
         for param in &def.reach {
-            let Some(target) = bindings.get(param) else {
+            let Some(target) = bindings.get(param) else { continue };
+            let Some(object) = object_of(param) else {
+                self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
                 continue;
             };
-            let reachable = match target {
-                Term::Const(id) => self.env.scene.within_reach(id),
-                _ => None,
-            };
-            match reachable {
-                Some(true) => {}
-                Some(false) => self.push(Reason::infeasible(Cause::Unreachable {
-                    object: target.name().cloned().unwrap_or_default(),
-                })),
-                None => self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() })),
+            let id = Sym::from(object.id.as_str());
+            if scene.within_reach(&object.id) != Some(true) {
+                self.push(Reason::infeasible(Cause::Unreachable { object: id }));
+            } else if let Some(obstacle) = scene.blocked_by(&object.id) {
+                self.push(Reason::infeasible(Cause::Blocked {
+                    object: id,
+                    by: Sym::from(obstacle.id.as_str()),
+                }));
             }
+        }
+        let agent = &scene.agent;
+        for object in def.grasp.iter().filter_map(object_of) {
+            let id = || Sym::from(object.id.as_str());
+            if agent
+                .gripper_aperture
+                .is_some_and(|aperture| grasp_width(object) > aperture)
+            {
+                self.push(Reason::infeasible(Cause::TooWide { object: id() }));
+            }
+            if let (Some(payload), Some(mass)) = (agent.payload, object.mass)
+                && mass > payload
+            {
+                self.push(Reason::infeasible(Cause::TooHeavy { object: id() }));
+            }
+        }
+        if let Some((item, support)) = &def.place
+            && let (Some(item), Some(support)) = (object_of(item), object_of(support))
+            && support.shape.is_some()
+            && !room_on(support, item)
+        {
+            self.push(Reason::infeasible(Cause::NoRoom {
+                item: Sym::from(item.id.as_str()),
+                support: Sym::from(support.id.as_str()),
+            }));
         }
         if let Some(before) = before {
             for precondition in &def.preconditions {

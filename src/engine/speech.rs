@@ -8,7 +8,7 @@ use super::clarify::Interpretation;
 use super::describe::Describer;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
-use super::term::Term;
+use super::term::{Sym, Term};
 
 /// How the robot phrases its answer.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -128,6 +128,24 @@ pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
         Cause::UnknownObject { object } => format!("I do not see {}", describer.argument(object)),
         Cause::Precondition { fact } => not_the_case(fact, describer),
         Cause::PlanTooDeep { .. } => "its plan is too deep to simulate".to_owned(),
+        other => geometry_words(other, describer, false),
+    }
+}
+
+/// The geometric reasons, the same in both styles but for a possessive: "my gripper".
+fn geometry_words(cause: &Cause, describer: &mut Describer<'_>, natural: bool) -> String {
+    let mut name = |id: &Sym| describer.argument(&Term::Const(id.clone()));
+    match cause {
+        Cause::Blocked { by, .. } => format!("{} is in the way", name(by)),
+        Cause::TooWide { object } if natural => format!("{} is too wide for my gripper", name(object)),
+        Cause::TooWide { object } => format!("{} is too wide to grasp", name(object)),
+        Cause::TooHeavy { object } if natural => format!("{} is too heavy for me to lift", name(object)),
+        Cause::TooHeavy { object } => format!("{} is too heavy", name(object)),
+        Cause::NoRoom { item, support } => {
+            let item = name(item);
+            format!("there is no room for {item} on {}", name(support))
+        }
+        _ => String::new(),
     }
 }
 
@@ -209,6 +227,7 @@ pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String 
         Cause::UnknownObject { object } => format!("I can't see {}", describer.argument(object)),
         Cause::Precondition { fact } => not_the_case(fact, describer),
         Cause::PlanTooDeep { .. } => "the plan is too complex for me to check".to_owned(),
+        other => geometry_words(other, describer, true),
     }
 }
 
@@ -249,16 +268,20 @@ fn natural_refusal(i: &Interpretation, describer: &mut Describer<'_>) -> String 
 fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Describer<'_>) -> Option<String> {
     let first = &all[which[0]];
     let verb = first.action.args().get(1)?.name()?.clone();
-    let same = which.iter().all(|&i| {
+    // Grouped only when the refusal would be worded the same for each: same verb on one object,
+    // same reason in the same words, under the same severity.
+    let words: Vec<String> = which
+        .iter()
+        .map(|&i| natural_reason(&all[i].outcome.reasons[0], describer))
+        .collect();
+    let same = which.iter().zip(&words).all(|(&i, w)| {
         let a = &all[i];
-        let r = &a.outcome.reasons[0];
-        let r0 = &first.outcome.reasons[0];
+        let (r, r0) = (&a.outcome.reasons[0], &first.outcome.reasons[0]);
         a.action.args().get(1).and_then(Term::name) == Some(&verb)
             && a.action.args().get(1).map(Term::arity) == Some(1)
-            && r.kind() == r0.kind()
-            && r.norm_id == r0.norm_id
-            && r.kind() != "unreachable"
-            && r.kind() != "unknown_object"
+            && r.is_norm_violation() == r0.is_norm_violation()
+            && r.severity == r0.severity
+            && w == &words[0]
     });
     if !same {
         return None;
@@ -275,7 +298,7 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
         return None;
     }
     let reason = &first.outcome.reasons[0];
-    let why = natural_reason(reason, describer);
+    let why = &words[0];
     let quantity = if which.len() == 2 {
         format!("either {noun}")
     } else {
@@ -286,7 +309,7 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
         match reason.severity.unwrap_or(3) {
             1 | 2 => format!("Sorry, I'd rather not {verb} {quantity}: {why}."),
             3 => format!("I won't {verb} {quantity}: {why}."),
-            _ => format!("I will not {verb} {quantity}. {}.", capitalise(&why)),
+            _ => format!("I will not {verb} {quantity}. {}.", capitalise(why)),
         }
     } else {
         format!("I can't {verb} {quantity}: {why}.")

@@ -27,6 +27,9 @@ fn agent() -> Agent {
         id: "self".into(),
         position: [0.0, 0.0, 0.75],
         reach: 0.9,
+        gripper_aperture: None,
+        payload: None,
+        gripper_size: None,
     }
 }
 
@@ -46,6 +49,7 @@ fn obj(
         position,
         shape,
         rotation: None,
+        mass: None,
     }
 }
 
@@ -62,11 +66,11 @@ fn vase_shape() -> Option<Shape> {
     })
 }
 
+/// The mug is a point here, unlike in paper-demo.json: these tables put notebooks and vases on
+/// it to test plans and norms, and a point support has no footprint for the placing check
+/// (which needs both shapes; `tests/api/beyond.rs` covers placing). Reach is the same.
 fn mug_shape() -> Option<Shape> {
-    Some(Shape::Cylinder {
-        radius: 0.04,
-        half_height: 0.05,
-    })
+    None
 }
 
 /// The objects of paper-demo.json's "lab" scene, in its order.
@@ -1642,12 +1646,12 @@ fn ordering_descriptions_and_readings() {
         case(
             "put with both arguments ambiguous: every combination, in description order",
             lab(),
-            paper_norms(),
-            act("put", vec![ty("notebook"), ty("vase")]),
+            norms(&[]),
+            act("put", vec![ty("vase"), ty("notebook")]),
             expect(
                 Ask,
                 None,
-                "Do you mean that you want me to put the green notebook on the fragile vase or that you want me to put the green notebook on the plastic vase or that you want me to put the red notebook on the fragile vase or that you want me to put the red notebook on the plastic vase?",
+                "Do you mean that you want me to put the fragile vase on the green notebook or that you want me to put the fragile vase on the red notebook or that you want me to put the plastic vase on the green notebook or that you want me to put the plastic vase on the red notebook?",
             ),
         ),
         case(

@@ -518,3 +518,147 @@ async fn checks_while_acting_use_the_norms_in_force_now_and_carry_effects_betwee
         .await;
     }
 }
+
+fn geometry_scene(agent_extra: Value, objects: Value) -> Value {
+    let mut agent = json!({"id": "self", "position": [0, 0, 0.75], "reach": 0.9});
+    for (k, v) in agent_extra.as_object().unwrap() {
+        agent[k] = v.clone();
+    }
+    json!({"agent": agent, "objects": objects})
+}
+
+#[tokio::test]
+async fn grasp_payload_clearance_and_placing_are_checked_when_the_request_gives_what_they_need() {
+    let app = spawn_app().await;
+    let cylinder = |r: f64, h: f64| json!({"cylinder": {"radius": r, "half_height": h}});
+    let objects = json!([
+        {"id": "cup1", "type": "cup", "position": [0.6, 0.0, 0.8], "shape": cylinder(0.04, 0.05), "mass": 0.3},
+        {"id": "pot1", "type": "pot", "position": [0.5, 0.4, 0.85], "shape": cylinder(0.15, 0.1), "mass": 1.5},
+        {"id": "box1", "type": "box", "position": [0.4, -0.5, 0.8], "shape": {"cuboid": {"half_extents": [0.05, 0.05, 0.05]}}, "mass": 5.0},
+        {"id": "wall1", "type": "wall", "position": [0.3, 0.0, 0.8], "shape": {"cuboid": {"half_extents": [0.01, 0.2, 0.2]}}},
+        {"id": "saucer1", "type": "saucer", "position": [0.5, -0.2, 0.76], "shape": cylinder(0.03, 0.005)},
+        {"id": "tray1", "type": "tray", "position": [0.5, 0.2, 0.76], "shape": {"cuboid": {"half_extents": [0.2, 0.15, 0.01]}}},
+        {"id": "ball1", "type": "ball", "position": [0.3, 0.6, 0.8], "shape": {"ball": {"radius": 0.1}}}
+    ]);
+    let robot = json!({"gripper_aperture": 0.1, "payload": 2.0, "gripper_size": 0.02});
+    let scene = geometry_scene(robot, objects.clone());
+    let cases = [
+        (
+            "get",
+            vec!["pot"],
+            "refuse",
+            "I cannot get the pot because the pot is too wide to grasp.",
+            "too_wide",
+        ),
+        (
+            "get",
+            vec!["box"],
+            "refuse",
+            "I cannot get the box because the box is too heavy.",
+            "too_heavy",
+        ),
+        (
+            "get",
+            vec!["cup"],
+            "refuse",
+            "I cannot get the cup because the wall is in the way.",
+            "blocked",
+        ),
+        ("pointTo", vec!["cup"], "comply", "Okay.", ""),
+        ("destroy", vec!["pot"], "comply", "Okay.", ""),
+        (
+            "put",
+            vec!["box", "saucer"],
+            "refuse",
+            "I cannot put the box on the saucer because the box is too heavy.",
+            "too_heavy",
+        ),
+        (
+            "put",
+            vec!["ball", "tray"],
+            "refuse",
+            "I cannot put the ball on the tray because the ball is too wide to grasp.",
+            "too_wide",
+        ),
+    ];
+    for (verb, types, decision, utterance, kind) in cases {
+        let answer = app.clarify(&request(verb, &types, scene.clone())).await;
+        assert_eq!(answer["decision"], decision, "{verb} {types:?}");
+        assert_eq!(answer["utterance"], utterance, "{verb} {types:?}");
+        if !kind.is_empty() {
+            assert_eq!(
+                answer["interpretations"][0]["reasons"][0]["kind"], kind,
+                "{verb} {types:?}"
+            );
+        }
+    }
+
+    // Placing: a cup does not fit on a saucer narrower than itself, fits on a tray, never on a ball.
+    let mut open = objects.clone();
+    open.as_array_mut().unwrap().retain(|o| o["id"] != "wall1");
+    let scene = geometry_scene(json!({"gripper_aperture": 0.1}), open);
+    let saucer = app.clarify(&request("put", &["cup", "saucer"], scene.clone())).await;
+    assert_eq!(
+        saucer["utterance"],
+        "I cannot put the cup on the saucer because there is no room for the cup on the saucer."
+    );
+    assert_eq!(
+        saucer["interpretations"][0]["reasons"][0]["detail"],
+        "no room for cup1 on saucer1"
+    );
+    assert_eq!(
+        saucer["speech_act"],
+        "cannot(did(self,put(cup1,saucer1)),because(noRoom(cup1,saucer1)))"
+    );
+    assert_eq!(
+        app.clarify(&request("put", &["cup", "tray"], scene.clone())).await["decision"],
+        "comply"
+    );
+    let on_ball = app.clarify(&request("put", &["cup", "ball"], scene.clone())).await;
+    assert_eq!(on_ball["interpretations"][0]["reasons"][0]["kind"], "no_room");
+
+    // Without the agent's measures the same scene is judged on reach alone, as the contract's are.
+    let plain = geometry_scene(json!({}), objects);
+    for (verb, types) in [("get", vec!["pot"]), ("get", vec!["box"]), ("get", vec!["cup"])] {
+        assert_eq!(
+            app.clarify(&request(verb, &types, plain.clone())).await["decision"],
+            "comply",
+            "{verb} {types:?}"
+        );
+    }
+    // And the paper's lab stays clear with a gripper: nothing there stands in the way.
+    let mut lab = lab_scene();
+    lab["agent"]["gripper_size"] = json!(0.02);
+    lab["agent"]["gripper_aperture"] = json!(0.3);
+    let answer = app.clarify(&request("get", &["vase"], lab)).await;
+    assert_eq!(answer["decision"], "ask");
+}
+
+#[tokio::test]
+async fn geometry_reasons_have_natural_words_too() {
+    let app = spawn_app().await;
+    let scene = geometry_scene(
+        json!({"gripper_aperture": 0.1, "payload": 1.0}),
+        json!([{"id": "box1", "type": "box", "position": [0.4, 0, 0.8], "shape": {"cuboid": {"half_extents": [0.2, 0.2, 0.2]}}, "mass": 3}]),
+    );
+    let mut body = request("get", &["box"], scene);
+    body["options"] = json!({"style": "natural"});
+    let answer = app.clarify(&body).await;
+    assert_eq!(
+        answer["utterance"],
+        "I can't get the box: the box is too wide for my gripper."
+    );
+    let words: Vec<&str> = answer["interpretations"][0]["reasons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["words"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        words,
+        [
+            "the box is too wide for my gripper",
+            "the box is too heavy for me to lift"
+        ]
+    );
+}

@@ -77,6 +77,7 @@ fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                 }),
             }),
             rotation: numbers(&o["rotation"]),
+            mass: o["mass"].as_f64(),
         })
         .collect();
     let bindings = directive["bindings"]
@@ -130,6 +131,9 @@ fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                 id: opt(&scene["agent"]["id"]),
                 position: numbers(&scene["agent"]["position"]),
                 reach: scene["agent"]["reach"].as_f64().unwrap(),
+                gripper_aperture: scene["agent"]["gripper_aperture"].as_f64(),
+                payload: scene["agent"]["payload"].as_f64(),
+                gripper_size: scene["agent"]["gripper_size"].as_f64(),
             }),
             objects,
             facts: strings(&scene["facts"]),

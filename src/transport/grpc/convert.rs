@@ -157,6 +157,9 @@ impl TryFrom<pb::Scene> for SceneBody {
                 id: agent.id,
                 position: fixed("/scene/agent/position", agent.position)?,
                 reach: agent.reach,
+                gripper_aperture: agent.gripper_aperture,
+                payload: agent.payload,
+                gripper_size: agent.gripper_size,
             },
             objects,
             facts: scene.facts,
@@ -201,6 +204,7 @@ fn object(at: &str, o: pb::Object) -> Result<ObjectBody, Error> {
             .collect::<BTreeMap<_, _>>(),
         shape,
         rotation,
+        mass: o.mass,
     })
 }
 
