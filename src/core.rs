@@ -1,54 +1,83 @@
 //! The one internal API every transport calls: norms in and out of the store, and decisions made
 //! under the current norm set.
 //!
-//! Owns: the compiled-norm cache (refreshed only when the stored version moves) and failing
-//! closed when the norms cannot be read. Must not: parse wire formats or know which transport asked.
+//! Owns: the caches of compiled norms and of the action library (each refreshed only when its
+//! stored version moves) and failing closed when either cannot be read. Must not: parse wire formats or know which transport asked.
 
 use std::sync::{Arc, RwLock};
 use std::time::Instant;
 
 use crate::api::{CheckInput, ClarifyInput};
 use crate::engine::Library;
+use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
 use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
 use crate::error::Error;
-use crate::storage::NormStore;
+use crate::storage::{NormStore, StoredAction};
 
 pub struct Core {
     store: Arc<dyn NormStore>,
-    library: Arc<Library>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
+    /// The last action library loaded, likewise tagged.
+    library: RwLock<Option<Arc<Library>>>,
+}
+
+/// Keeps the newer of two values refreshed concurrently.
+fn keep_newer<T>(slot: &RwLock<Option<Arc<T>>>, fresh: &Arc<T>, version: impl Fn(&T) -> i64) -> Result<(), Error> {
+    let mut slot = slot.write().map_err(|_| poisoned())?;
+    if slot.as_ref().is_none_or(|c| version(c) <= version(fresh)) {
+        *slot = Some(fresh.clone());
+    }
+    Ok(())
+}
+
+fn cached<T>(slot: &RwLock<Option<Arc<T>>>, version: i64, of: impl Fn(&T) -> i64) -> Result<Option<Arc<T>>, Error> {
+    Ok(slot
+        .read()
+        .map_err(|_| poisoned())?
+        .as_ref()
+        .filter(|c| of(c) == version)
+        .cloned())
 }
 
 impl Core {
     pub fn new(store: Arc<dyn NormStore>) -> Core {
         Core {
             store,
-            library: Arc::new(Library::default_library()),
             compiled: RwLock::new(None),
+            library: RwLock::new(None),
         }
     }
 
-    /// The norm set in force now: one version read per call; a reload and recompile only when
-    /// another write (from this process or any other sharing the store) moved the version.
-    async fn norms(&self) -> Result<Arc<CompiledNorms>, Error> {
+    /// The norms and the verbs in force now: one versions read per call; a reload only of what
+    /// another write (from this process or any other sharing the store) has changed.
+    async fn knowledge(&self) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
         let unavailable = |e: crate::storage::StoreError| Error::NormsUnavailable(e.0);
-        let version = self.store.version().await.map_err(unavailable)?;
-        if let Some(current) = self.compiled.read().map_err(|_| poisoned())?.as_ref()
-            && current.version == version
-        {
-            return Ok(current.clone());
-        }
-        let (version, norms) = self.store.load().await.map_err(unavailable)?;
-        let fresh = Arc::new(CompiledNorms::compile(version, norms));
-        let mut slot = self.compiled.write().map_err(|_| poisoned())?;
-        // Two refreshes may race; keep the newer set.
-        if slot.as_ref().is_none_or(|c| c.version <= fresh.version) {
-            *slot = Some(fresh.clone());
-        }
-        Ok(fresh)
+        let versions = self.store.versions().await.map_err(unavailable)?;
+        let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
+            Some(norms) => norms,
+            None => {
+                let (version, norms) = self.store.load().await.map_err(unavailable)?;
+                let fresh = Arc::new(CompiledNorms::compile(version, norms));
+                keep_newer(&self.compiled, &fresh, |c| c.version)?;
+                fresh
+            }
+        };
+        let library = match cached(&self.library, versions.actions, |l| l.version)? {
+            Some(library) => library,
+            None => {
+                let (version, verbs) = self.store.load_actions().await.map_err(unavailable)?;
+                let fresh = Library::from_written(version, &verbs).map_err(|(name, e)| {
+                    Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
+                })?;
+                let fresh = Arc::new(fresh);
+                keep_newer(&self.library, &fresh, |l| l.version)?;
+                fresh
+            }
+        };
+        Ok((norms, library))
     }
 
     /// Decides what to say about a directive. Fails closed: without readable norms, no decision.
@@ -56,8 +85,7 @@ impl Core {
     /// its deadline counts from here.
     pub async fn clarify(&self, input: ClarifyInput) -> Result<Decision, Error> {
         let deadline = Instant::now() + input.deadline;
-        let norms = self.norms().await?;
-        let library = self.library.clone();
+        let (norms, library) = self.knowledge().await?;
         let decision = tokio::task::spawn_blocking(move || {
             let expired = || Instant::now() >= deadline;
             clarify(&input.request, &input.scene, &norms, &library, &expired)
@@ -69,8 +97,7 @@ impl Core {
 
     /// Checks steps while acting, under the norms in force now. Fails closed like `clarify`.
     pub async fn check(&self, input: CheckInput) -> Result<Check, Error> {
-        let norms = self.norms().await?;
-        let library = self.library.clone();
+        let (norms, library) = self.knowledge().await?;
         tokio::task::spawn_blocking(move || {
             let scope = Scope {
                 context: &input.context,
@@ -101,6 +128,50 @@ impl Core {
             Ok(())
         } else {
             Err(not_found(id))
+        }
+    }
+
+    /// Every verb, by name, as written.
+    pub async fn list_actions(&self) -> Result<Vec<ActionInput>, Error> {
+        let (_, library) = self.knowledge().await?;
+        Ok(library.verbs().into_iter().map(ActionDef::to_input).collect())
+    }
+
+    pub async fn get_action(&self, name: &str) -> Result<ActionInput, Error> {
+        let (_, library) = self.knowledge().await?;
+        library
+            .verbs()
+            .into_iter()
+            .find(|d| &*d.name == name)
+            .map(ActionDef::to_input)
+            .ok_or_else(|| Error::NotFound {
+                what: format!("verb `{name}`"),
+            })
+    }
+
+    /// Adds or replaces a verb; returns it as stored and whether it is new. Nothing is written
+    /// unless the verb is valid and the library it makes has no loop through its steps.
+    pub async fn put_action(&self, name: &str, input: ActionInput) -> Result<(ActionInput, bool), Error> {
+        let def = input.validate(name).map_err(|e| Error::invalid(e.field, e.message))?;
+        let written = def.to_input();
+        let this = name.to_owned();
+        let accept = move |all: &[StoredAction]| {
+            Library::from_written(0, all).map(|_| ()).map_err(|(verb, e)| {
+                let field = if verb == this { e.field } else { "/methods".to_owned() };
+                Error::invalid(field, format!("{}: {}", verb, e.message))
+            })
+        };
+        let created = self.store.put_action(name, &written, &accept).await??;
+        Ok((written, created))
+    }
+
+    pub async fn delete_action(&self, name: &str) -> Result<(), Error> {
+        if self.store.delete_action(name).await? {
+            Ok(())
+        } else {
+            Err(Error::NotFound {
+                what: format!("verb `{name}`"),
+            })
         }
     }
 

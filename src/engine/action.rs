@@ -1,13 +1,16 @@
-//! The action library as data: each verb's parameters, needs, steps and effects.
+//! The action library as data: each verb's parameters and methods (needs, steps, effects).
 //!
-//! Owns: the definitions and the default library (get, pointTo, destroy, steal, put).
-//! Must not: simulate anything; `simulate` interprets these definitions.
+//! Owns: the definitions, their validation (field-relative errors, no unknown variables, no
+//! recursion through the library), and the default library (get, pointTo, destroy, steal, put).
+//! Must not: simulate anything (`simulate` interprets these definitions) or read the database.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-use super::term::{Subst, Sym, Term};
+use serde::{Deserialize, Serialize};
 
-/// One step of a verb's plan.
+use super::term::{Subst, Sym, Term, is_constant_name};
+
+/// One step of a method's plan.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Step {
     /// The verb's own primitive execution: its effects and needs apply here.
@@ -16,11 +19,10 @@ pub enum Step {
     Do(Term),
 }
 
+/// One way of carrying a verb out. A reading is permissible and feasible when any of its verb's
+/// methods is.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ActionDef {
-    pub name: Sym,
-    /// Parameter variables, bound positionally to the action's arguments.
-    pub params: Vec<Sym>,
+pub struct Method {
     /// Parameters whose object must be within the agent's reach, with a clear path to it, when
     /// the verb itself runs.
     pub reach: Vec<Sym>,
@@ -29,16 +31,25 @@ pub struct ActionDef {
     pub grasp: Vec<Sym>,
     /// `(item, support)`: the verb sets the item on the support, which must have room for it.
     pub place: Option<(Sym, Sym)>,
-    /// Facts (over the parameters; other variables are existential) that must hold when the verb
-    /// itself runs.
+    /// Facts over the parameters that must hold when the verb itself runs.
     pub preconditions: Vec<Term>,
+    /// In order; `Itself` appears exactly once.
     pub steps: Vec<Step>,
     /// Made true by the verb itself, besides `did(self,action)`.
     pub adds: Vec<Term>,
     /// Made false by the verb itself.
     pub removes: Vec<Term>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ActionDef {
+    pub name: Sym,
+    /// Parameter variables, bound positionally to the action's arguments.
+    pub params: Vec<Sym>,
     /// The word that joins the verb's arguments when spoken ("put the cup on the plate").
     pub joiner: Option<String>,
+    /// Tried in order; at least one.
+    pub methods: Vec<Method>,
 }
 
 impl ActionDef {
@@ -53,12 +64,252 @@ impl ActionDef {
         }
         Some(subst)
     }
+
+    /// The verbs this one's steps call, by name and arity.
+    fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
+        self.methods.iter().flat_map(|m| {
+            m.steps.iter().filter_map(|s| match s {
+                Step::Do(t) => t.name().map(|n| (n.clone(), t.arity())),
+                Step::Itself => None,
+            })
+        })
+    }
+}
+
+/// A verb as a curator writes it (and as the store keeps it): terms as text.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActionInput {
+    #[serde(default)]
+    pub name: Option<String>,
+    #[serde(default)]
+    pub parameters: Vec<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joiner: Option<String>,
+    #[serde(default)]
+    pub methods: Vec<MethodInput>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MethodInput {
+    /// Action terms, and the word `itself` for the verb's own execution; default `["itself"]`,
+    /// and `itself` is appended when not listed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub steps: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reach: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub grasp: Vec<String>,
+    /// `[item, support]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub place: Option<Vec<String>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub preconditions: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub adds: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub removes: Vec<String>,
+}
+
+/// What is wrong with a verb, and where: `field` is a JSON Pointer relative to the verb.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct ActionError {
+    pub field: String,
+    pub message: String,
+}
+
+fn action_error(field: impl Into<String>, message: impl Into<String>) -> ActionError {
+    ActionError {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+pub const MAX_METHODS: usize = 8;
+pub const MAX_ITEMS: usize = 32;
+
+impl ActionInput {
+    /// Validates every field; the verb is named by the caller (the path of the request).
+    pub fn validate(&self, name: &str) -> Result<ActionDef, ActionError> {
+        if let Some(given) = &self.name
+            && given != name
+        {
+            return Err(action_error(
+                "/name",
+                format!("`{given}` differs from the verb `{name}` it is stored as"),
+            ));
+        }
+        if !is_constant_name(name) || name.len() > 64 {
+            return Err(action_error(
+                "/name",
+                format!("`{name}` is not a verb name (lower-case first, then letters, digits, `_`)"),
+            ));
+        }
+        if self.parameters.len() > 8 {
+            return Err(action_error("/parameters", "at most 8 parameters"));
+        }
+        let mut params: Vec<Sym> = Vec::new();
+        for (i, p) in self.parameters.iter().enumerate() {
+            let field = format!("/parameters/{i}");
+            let term = Term::parse(p).map_err(|e| action_error(&field, format!("not a variable: {e}")))?;
+            let Term::Var(v) = term else {
+                return Err(action_error(
+                    field,
+                    format!("`{p}` is not a variable (upper-case first, or `?`)"),
+                ));
+            };
+            if params.contains(&v) {
+                return Err(action_error(field, format!("`{v}` is listed twice")));
+            }
+            params.push(v);
+        }
+        if let Some(joiner) = &self.joiner
+            && (joiner.is_empty() || joiner.len() > 32 || !joiner.chars().all(|c| c.is_ascii_lowercase() || c == ' '))
+        {
+            return Err(action_error("/joiner", "a short lower-case word, like `on` or `to`"));
+        }
+        if self.methods.is_empty() || self.methods.len() > MAX_METHODS {
+            return Err(action_error("/methods", format!("give 1 to {MAX_METHODS} methods")));
+        }
+        let methods = self
+            .methods
+            .iter()
+            .enumerate()
+            .map(|(i, m)| m.validate(&format!("/methods/{i}"), name, &params))
+            .collect::<Result<_, _>>()?;
+        Ok(ActionDef {
+            name: Sym::from(name),
+            params,
+            joiner: self.joiner.clone(),
+            methods,
+        })
+    }
+}
+
+impl MethodInput {
+    fn validate(&self, at: &str, verb: &str, params: &[Sym]) -> Result<Method, ActionError> {
+        let known = |field: &str, term: &Term| -> Result<(), ActionError> {
+            match term.variables().into_iter().find(|v| !params.contains(v)) {
+                Some(v) => Err(action_error(field, format!("`{v}` is not a parameter of the verb"))),
+                None => Ok(()),
+            }
+        };
+        let terms = |name: &str, list: &[String]| -> Result<Vec<Term>, ActionError> {
+            if list.len() > MAX_ITEMS {
+                return Err(action_error(format!("{at}/{name}"), format!("at most {MAX_ITEMS}")));
+            }
+            list.iter()
+                .enumerate()
+                .map(|(i, text)| {
+                    let field = format!("{at}/{name}/{i}");
+                    let term = Term::parse(text).map_err(|e| action_error(&field, format!("not a term: {e}")))?;
+                    if term.is_var() {
+                        return Err(action_error(field, "must start with a name, not a variable"));
+                    }
+                    known(&field, &term)?;
+                    Ok(term)
+                })
+                .collect()
+        };
+        let parameter_list = |name: &str, list: &[String]| -> Result<Vec<Sym>, ActionError> {
+            list.iter()
+                .enumerate()
+                .map(|(i, text)| {
+                    let field = format!("{at}/{name}/{i}");
+                    params
+                        .iter()
+                        .find(|p| &***p == text.trim())
+                        .cloned()
+                        .ok_or_else(|| action_error(field, format!("`{text}` is not a parameter of the verb")))
+                })
+                .collect()
+        };
+        let mut steps = Vec::new();
+        let mut itself = false;
+        for (i, text) in self.steps.iter().enumerate() {
+            let field = format!("{at}/steps/{i}");
+            if text.trim() == "itself" {
+                if itself {
+                    return Err(action_error(field, "`itself` may appear once"));
+                }
+                itself = true;
+                steps.push(Step::Itself);
+                continue;
+            }
+            let term = Term::parse(text).map_err(|e| action_error(&field, format!("not a term: {e}")))?;
+            if term.is_var() {
+                return Err(action_error(field, "a step names an action, not a variable"));
+            }
+            known(&field, &term)?;
+            if term.name().is_some_and(|n| &**n == verb) && term.arity() == params.len() {
+                return Err(action_error(field, format!("`{verb}` cannot be a step of itself")));
+            }
+            steps.push(Step::Do(term));
+        }
+        if !itself {
+            steps.push(Step::Itself);
+        }
+        let place = match &self.place {
+            None => None,
+            Some(pair) if pair.len() == 2 => {
+                let both = parameter_list("place", pair)?;
+                Some((both[0].clone(), both[1].clone()))
+            }
+            Some(_) => return Err(action_error(format!("{at}/place"), "give [item, support]")),
+        };
+        Ok(Method {
+            reach: parameter_list("reach", &self.reach)?,
+            grasp: parameter_list("grasp", &self.grasp)?,
+            place,
+            preconditions: terms("preconditions", &self.preconditions)?,
+            steps,
+            adds: terms("adds", &self.adds)?,
+            removes: terms("removes", &self.removes)?,
+        })
+    }
+}
+
+impl ActionDef {
+    /// The verb as a curator would write it: the inverse of [`ActionInput::validate`].
+    pub fn to_input(&self) -> ActionInput {
+        let names = |list: &[Sym]| list.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let texts = |list: &[Term]| list.iter().map(Term::to_string).collect::<Vec<_>>();
+        ActionInput {
+            name: Some(self.name.to_string()),
+            parameters: names(&self.params),
+            joiner: self.joiner.clone(),
+            methods: self
+                .methods
+                .iter()
+                .map(|m| MethodInput {
+                    steps: m
+                        .steps
+                        .iter()
+                        .map(|s| match s {
+                            Step::Itself => "itself".to_owned(),
+                            Step::Do(t) => t.to_string(),
+                        })
+                        .collect(),
+                    reach: names(&m.reach),
+                    grasp: names(&m.grasp),
+                    place: m.place.as_ref().map(|(a, b)| vec![a.to_string(), b.to_string()]),
+                    preconditions: texts(&m.preconditions),
+                    adds: texts(&m.adds),
+                    removes: texts(&m.removes),
+                })
+                .collect(),
+        }
+    }
 }
 
 /// Verbs by name and arity.
 #[derive(Clone, Debug, Default)]
 pub struct Library {
     defs: HashMap<(Sym, usize), ActionDef>,
+    /// The stored version this library was loaded from (0 for the built-in one).
+    pub version: i64,
 }
 
 fn term(text: &str) -> Term {
@@ -66,8 +317,56 @@ fn term(text: &str) -> Term {
 }
 
 impl Library {
-    pub fn insert(&mut self, def: ActionDef) {
-        self.defs.insert((def.name.clone(), def.params.len()), def);
+    /// Adds or replaces a verb, refusing one whose steps would call it again through the
+    /// library (a plan that never ends).
+    pub fn insert(&mut self, def: ActionDef) -> Result<(), ActionError> {
+        let key = (def.name.clone(), def.params.len());
+        let previous = self.defs.insert(key.clone(), def);
+        if let Some(cycle) = self.cycle_through(&key) {
+            match previous {
+                Some(p) => self.defs.insert(key, p),
+                None => self.defs.remove(&key),
+            };
+            return Err(action_error(
+                "/methods",
+                format!("the steps call back into the verb: {cycle}"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A path of verbs from `start` back to itself, if any.
+    fn cycle_through(&self, start: &(Sym, usize)) -> Option<String> {
+        let mut stack = vec![(start.clone(), vec![start.0.to_string()])];
+        let mut seen = HashSet::new();
+        while let Some((key, path)) = stack.pop() {
+            let Some(def) = self.defs.get(&key) else { continue };
+            for callee in def.callees() {
+                let mut next = path.clone();
+                next.push(callee.0.to_string());
+                if &callee == start {
+                    return Some(next.join(" → "));
+                }
+                if seen.insert(callee.clone()) {
+                    stack.push((callee, next));
+                }
+            }
+        }
+        None
+    }
+
+    /// A library from verbs as written (the store's rows), each validated under its own name,
+    /// and refused whole if any is invalid or the steps loop.
+    pub fn from_written(version: i64, verbs: &[(String, ActionInput)]) -> Result<Library, (String, ActionError)> {
+        let mut library = Library {
+            version,
+            ..Library::default()
+        };
+        for (name, input) in verbs {
+            let def = input.validate(name).map_err(|e| (name.clone(), e))?;
+            library.insert(def).map_err(|e| (name.clone(), e))?;
+        }
+        Ok(library)
     }
 
     pub fn get(&self, name: &str, arity: usize) -> Option<&ActionDef> {
@@ -79,45 +378,129 @@ impl Library {
         self.get(action.name()?, action.arity())
     }
 
+    /// Every verb, by name then arity.
+    pub fn verbs(&self) -> Vec<&ActionDef> {
+        let mut all: Vec<&ActionDef> = self.defs.values().collect();
+        all.sort_by(|a, b| a.name.cmp(&b.name).then(a.params.len().cmp(&b.params.len())));
+        all
+    }
+
     /// The contract's default library.
     pub fn default_library() -> Library {
-        let handle = |name: &str, adds: &[&str]| ActionDef {
+        let one = |name: &str, reach: &[&str], grasp: &[&str], adds: &[&str]| ActionDef {
             name: Sym::from(name),
             params: vec![Sym::from("X")],
-            reach: vec![Sym::from("X")],
-            grasp: vec![],
-            place: None,
-            preconditions: vec![],
-            steps: vec![Step::Itself],
-            adds: adds.iter().map(|t| term(t)).collect(),
-            removes: vec![],
             joiner: None,
+            methods: vec![Method {
+                reach: reach.iter().map(|p| Sym::from(*p)).collect(),
+                grasp: grasp.iter().map(|p| Sym::from(*p)).collect(),
+                place: None,
+                preconditions: vec![],
+                steps: vec![Step::Itself],
+                adds: adds.iter().map(|t| term(t)).collect(),
+                removes: vec![],
+            }],
         };
-        let mut library = Library::default();
-        let grasping = |def: ActionDef| ActionDef {
-            grasp: vec![Sym::from("X")],
-            ..def
-        };
-        library.insert(grasping(handle("get", &["holding(self,X)"])));
-        library.insert(handle("destroy", &["destroyed(X)"]));
-        library.insert(grasping(handle("steal", &["holding(self,X)"])));
-        library.insert(ActionDef {
-            reach: vec![],
-            ..handle("pointTo", &[])
-        });
-        library.insert(ActionDef {
+        let put = ActionDef {
             name: Sym::from("put"),
             params: vec![Sym::from("X"), Sym::from("Y")],
-            reach: vec![Sym::from("X"), Sym::from("Y")],
-            // X was grasped by the get step.
-            grasp: vec![],
-            place: Some((Sym::from("X"), Sym::from("Y"))),
-            preconditions: vec![],
-            steps: vec![Step::Do(term("get(X)")), Step::Itself],
-            adds: vec![term("on(X,Y)")],
-            removes: vec![term("holding(self,X)")],
             joiner: Some("on".into()),
-        });
+            methods: vec![Method {
+                reach: vec![Sym::from("X"), Sym::from("Y")],
+                // X was grasped by the get step.
+                grasp: vec![],
+                place: Some((Sym::from("X"), Sym::from("Y"))),
+                preconditions: vec![],
+                steps: vec![Step::Do(term("get(X)")), Step::Itself],
+                adds: vec![term("on(X,Y)")],
+                removes: vec![term("holding(self,X)")],
+            }],
+        };
+        let mut library = Library::default();
+        for def in [
+            one("get", &["X"], &["X"], &["holding(self,X)"]),
+            one("pointTo", &[], &[], &[]),
+            one("destroy", &["X"], &[], &["destroyed(X)"]),
+            one("steal", &["X"], &["X"], &["holding(self,X)"]),
+            put,
+        ] {
+            library.insert(def).expect("the default library has no cycles");
+        }
         library
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn input(json: &str) -> ActionInput {
+        serde_json::from_str(json).unwrap()
+    }
+
+    #[test]
+    fn the_default_library_round_trips_through_its_written_form() {
+        let library = Library::default_library();
+        for def in library.verbs() {
+            let written = def.to_input();
+            assert_eq!(&written.validate(&def.name).unwrap(), def, "{}", def.name);
+        }
+    }
+
+    #[test]
+    fn validation_names_the_field_at_fault() {
+        let cases = [
+            (r#"{"parameters": ["x"], "methods": [{}]}"#, "/parameters/0"),
+            (r#"{"parameters": ["X", "X"], "methods": [{}]}"#, "/parameters/1"),
+            (r#"{"parameters": ["X"], "methods": []}"#, "/methods"),
+            (
+                r#"{"parameters": ["X"], "methods": [{"adds": ["open(Y)"]}]}"#,
+                "/methods/0/adds/0",
+            ),
+            (
+                r#"{"parameters": ["X"], "methods": [{"reach": ["Y"]}]}"#,
+                "/methods/0/reach/0",
+            ),
+            (
+                r#"{"parameters": ["X"], "methods": [{"steps": ["open(X)"]}]}"#,
+                "/methods/0/steps/0",
+            ),
+            (
+                r#"{"parameters": ["X"], "methods": [{"steps": ["itself", "itself"]}]}"#,
+                "/methods/0/steps/1",
+            ),
+            (
+                r#"{"parameters": ["X"], "methods": [{"preconditions": ["closed("]}]}"#,
+                "/methods/0/preconditions/0",
+            ),
+            (
+                r#"{"parameters": ["X"], "methods": [{"place": ["X"]}]}"#,
+                "/methods/0/place",
+            ),
+            (r#"{"name": "shut", "parameters": ["X"], "methods": [{}]}"#, "/name"),
+        ];
+        for (json, field) in cases {
+            let err = input(json).validate("open").unwrap_err();
+            assert_eq!(err.field, field, "{json}: {err}");
+        }
+        assert_eq!(
+            input(r#"{"methods": [{}]}"#).validate("Open").unwrap_err().field,
+            "/name"
+        );
+    }
+
+    #[test]
+    fn recursion_through_the_library_is_refused_and_leaves_it_unchanged() {
+        let mut library = Library::default_library();
+        let fetch = input(r#"{"parameters": ["X"], "methods": [{"steps": ["carry(X)"]}]}"#)
+            .validate("fetch")
+            .unwrap();
+        library.insert(fetch).unwrap();
+        let carry = input(r#"{"parameters": ["X"], "methods": [{"steps": ["fetch(X)"]}]}"#)
+            .validate("carry")
+            .unwrap();
+        let err = library.insert(carry).unwrap_err();
+        assert!(err.message.contains("carry → fetch → carry"), "{err}");
+        assert!(library.get("carry", 1).is_none());
     }
 }

@@ -265,6 +265,8 @@ pub struct Decision {
     pub limits: Option<Limits>,
     /// The version of the norm set the decision was made under.
     pub norm_version: i64,
+    /// The version of the action library it was simulated with.
+    pub library_version: i64,
 }
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -423,7 +425,7 @@ pub fn clarify(
     let options = request.options;
     let mut describer = Describer::new(scene, library);
     let finish = |plan: Plan, interpretations: Vec<Interpretation>, limits, describer: &mut Describer<'_>| {
-        render(
+        let mut decision = render(
             &speaker,
             options.style,
             plan,
@@ -431,7 +433,9 @@ pub fn clarify(
             limits,
             norms.version,
             describer,
-        )
+        );
+        decision.library_version = library.version;
+        decision
     };
 
     let (template, slots) = slots(&request.directive, scene);
@@ -690,5 +694,6 @@ fn render(
         offered,
         limits,
         norm_version,
+        library_version: 0,
     }
 }

@@ -4,7 +4,7 @@
 //! Must not: stop at the first failure (every reason is gathered), share a world between
 //! readings, or decide what to say.
 
-use super::action::{Library, Step};
+use super::action::{Library, Method, Step};
 use super::norms::{CompiledNorms, Scope};
 use super::scene::{Scene, grasp_width, room_on};
 use super::term::{Subst, Sym, Term};
@@ -208,14 +208,47 @@ impl Run<'_> {
         let Some(bindings) = def.bind(action) else {
             return;
         };
-        for step in &def.steps {
+        if let [method] = def.methods.as_slice() {
+            self.run_method(action, method, &bindings, depth);
+            return;
+        }
+        // Several methods: each is tried from the same world. The first that meets no reason is
+        // the plan; when none does, the reading carries the reasons of every method tried and
+        // goes on in the world of the first.
+        let mut tried: Vec<Run<'_>> = Vec::with_capacity(def.methods.len());
+        for method in &def.methods {
+            let mut attempt = Run {
+                env,
+                world: self.world.clone(),
+                outcome: Outcome::default(),
+            };
+            attempt.run_method(action, method, &bindings, depth);
+            if attempt.outcome.reasons.is_empty() {
+                self.world = attempt.world;
+                self.outcome.plan.extend(attempt.outcome.plan);
+                return;
+            }
+            tried.push(attempt);
+        }
+        for attempt in &tried {
+            for reason in &attempt.outcome.reasons {
+                self.push(reason.clone());
+            }
+        }
+        let first = tried.swap_remove(0);
+        self.world = first.world;
+        self.outcome.plan.extend(first.outcome.plan);
+    }
+
+    fn run_method(&mut self, action: &Term, method: &Method, bindings: &Subst, depth: usize) {
+        for step in &method.steps {
             match step {
-                Step::Do(sub) => self.run(&sub.substitute(&bindings), false, depth + 1),
+                Step::Do(sub) => self.run(&sub.substitute(bindings), false, depth + 1),
                 Step::Itself => {
                     // The verb's own step, in the world its earlier steps made (a `when` may
                     // hold only now); the same reason found by check (1) is kept once.
                     self.check_action(action);
-                    self.execute(action, def, &bindings);
+                    self.execute(action, method, bindings);
                 }
             }
         }
@@ -223,7 +256,7 @@ impl Run<'_> {
 
     /// The verb's own execution: effects (and the states they enter), then needs, judged on the
     /// world before the effects.
-    fn execute(&mut self, action: &Term, def: &super::action::ActionDef, bindings: &Subst) {
+    fn execute(&mut self, action: &Term, def: &Method, bindings: &Subst) {
         // Preconditions are judged on the world before the effects; copy it only if asked.
         let before = (!def.preconditions.is_empty()).then(|| self.world.clone());
         self.outcome.plan.push(action.clone());

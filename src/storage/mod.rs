@@ -7,6 +7,7 @@ mod sqlite;
 
 use async_trait::async_trait;
 
+use crate::engine::action::ActionInput;
 use crate::engine::norms::{Norm, NormSpec};
 
 pub use sqlite::SqliteStore;
@@ -22,11 +23,25 @@ impl From<sqlx::Error> for StoreError {
     }
 }
 
-/// Every write is one transaction that also bumps the norm-set version.
+/// The versions of what decisions depend on, read together in one cheap query.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Versions {
+    pub norms: i64,
+    pub actions: i64,
+}
+
+/// A verb as stored: its name and its written definition.
+pub type StoredAction = (String, ActionInput);
+
+/// Judges a whole library before a write commits (an alias, so that `async_trait` leaves the
+/// closure's higher-ranked lifetime alone).
+pub type Accept = dyn Fn(&[StoredAction]) -> Result<(), crate::error::Error> + Send + Sync;
+
+/// Every write is one transaction that also bumps the version of the set it changes.
 #[async_trait]
 pub trait NormStore: Send + Sync + 'static {
-    /// The current norm-set version: one cheap read, made before each decision.
-    async fn version(&self) -> Result<i64, StoreError>;
+    /// The current norm-set and action-set versions: one cheap read, made before each decision.
+    async fn versions(&self) -> Result<Versions, StoreError>;
     /// Every norm and the version they make up, read in one snapshot.
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError>;
     async fn create(&self, spec: &NormSpec) -> Result<Norm, StoreError>;
@@ -37,4 +52,18 @@ pub trait NormStore: Send + Sync + 'static {
     async fn delete(&self, id: i64) -> Result<bool, StoreError>;
     /// Whether the store is open, migrated and readable.
     async fn ping(&self) -> Result<(), StoreError>;
+
+    /// Every verb and the action-set version they make up, read in one snapshot, by name.
+    async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError>;
+    /// Adds or replaces a verb in one transaction. `accept` sees the whole library as it would
+    /// be and may refuse it (a cycle through the steps); then nothing is written. Returns
+    /// whether the verb is new.
+    async fn put_action(
+        &self,
+        name: &str,
+        definition: &ActionInput,
+        accept: &Accept,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError>;
+    /// Whether a verb of that name existed (and is now gone).
+    async fn delete_action(&self, name: &str) -> Result<bool, StoreError>;
 }

@@ -12,7 +12,8 @@ use sqlx::sqlite::{
 };
 use sqlx::{Row, Sqlite, Transaction};
 
-use super::{NormStore, StoreError};
+use super::{Accept, NormStore, StoreError, StoredAction, Versions};
+use crate::engine::action::ActionInput;
 use crate::engine::norms::{Norm, NormKind, NormSpec};
 use crate::engine::term::Term;
 
@@ -116,10 +117,13 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
 
 #[async_trait]
 impl NormStore for SqliteStore {
-    async fn version(&self) -> Result<i64, StoreError> {
-        Ok(sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
-            .fetch_one(&self.pool)
-            .await?)
+    async fn versions(&self) -> Result<Versions, StoreError> {
+        let (norms, actions): (i64, i64) = sqlx::query_as(
+            "SELECT (SELECT version FROM norm_set WHERE id = 1), (SELECT version FROM action_set WHERE id = 1)",
+        )
+        .fetch_one(&self.pool)
+        .await?;
+        Ok(Versions { norms, actions })
     }
 
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError> {
@@ -187,6 +191,87 @@ impl NormStore for SqliteStore {
     }
 
     async fn ping(&self) -> Result<(), StoreError> {
-        self.version().await.map(|_| ())
+        self.versions().await.map(|_| ())
     }
+
+    async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError> {
+        let mut tx = self.pool.begin().await?;
+        let version: i64 = sqlx::query_scalar("SELECT version FROM action_set WHERE id = 1")
+            .fetch_one(&mut *tx)
+            .await?;
+        let rows = read_actions(&mut tx).await?;
+        tx.commit().await?;
+        Ok((version, rows))
+    }
+
+    async fn put_action(
+        &self,
+        name: &str,
+        definition: &ActionInput,
+        accept: &Accept,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError> {
+        let text = serde_json::to_string(definition).map_err(|e| StoreError(e.to_string()))?;
+        // The write lock is taken first, so the library `accept` judges is the one written to.
+        let mut tx = self.write().await?;
+        let mut all = read_actions(&mut tx).await?;
+        let created = match all.iter_mut().find(|(n, _)| n == name) {
+            Some(existing) => {
+                existing.1 = definition.clone();
+                false
+            }
+            None => {
+                all.push((name.to_owned(), definition.clone()));
+                true
+            }
+        };
+        if let Err(refused) = accept(&all) {
+            tx.rollback().await?;
+            return Ok(Err(refused));
+        }
+        sqlx::query(
+            "INSERT INTO actions (name, definition) VALUES (?, ?) \
+             ON CONFLICT (name) DO UPDATE SET definition = excluded.definition, \
+             updated_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now')",
+        )
+        .bind(name)
+        .bind(text)
+        .execute(&mut *tx)
+        .await?;
+        sqlx::query("UPDATE action_set SET version = version + 1 WHERE id = 1")
+            .execute(&mut *tx)
+            .await?;
+        tx.commit().await?;
+        Ok(Ok(created))
+    }
+
+    async fn delete_action(&self, name: &str) -> Result<bool, StoreError> {
+        let mut tx = self.write().await?;
+        let deleted = sqlx::query("DELETE FROM actions WHERE name = ?")
+            .bind(name)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected()
+            > 0;
+        if deleted {
+            sqlx::query("UPDATE action_set SET version = version + 1 WHERE id = 1")
+                .execute(&mut *tx)
+                .await?;
+        }
+        tx.commit().await?;
+        Ok(deleted)
+    }
+}
+
+/// Every stored verb by name; a row that is not a verb's JSON is a store error (fail closed).
+async fn read_actions(tx: &mut Transaction<'static, Sqlite>) -> Result<Vec<StoredAction>, StoreError> {
+    let rows: Vec<(String, String)> = sqlx::query_as("SELECT name, definition FROM actions ORDER BY name")
+        .fetch_all(&mut **tx)
+        .await?;
+    rows.into_iter()
+        .map(|(name, text)| {
+            let definition =
+                serde_json::from_str(&text).map_err(|e| StoreError(format!("action `{name}` is unreadable: {e}")))?;
+            Ok((name, definition))
+        })
+        .collect()
 }

@@ -189,7 +189,7 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
         .collect();
     let mut v = json!({"decision": r.decision, "utterance": r.utterance, "speech_act": r.speech_act,
                        "goal": r.goal, "interpretations": interpretations, "offered": r.offered,
-                       "norm_version": r.norm_version});
+                       "norm_version": r.norm_version, "library_version": r.library_version});
     if let Some(limits) = r.limits {
         v["limits"] = json!({"reason": limits.reason, "readings": limits.readings, "simulated": limits.simulated});
     }

@@ -1,5 +1,6 @@
 //! One integration-test binary: the real service on port 0 with a fresh database per test.
 
+mod actions;
 mod auth;
 mod beyond;
 mod binary;

@@ -72,6 +72,7 @@ async fn get_the_vase_carries_every_reading_with_reasons_plan_and_norm_version()
             ],
             "offered": ["did(self,get(object4))"],
             "norm_version": 3,
+            "library_version": 1,
             "text": "Get the vase."
         })
     );

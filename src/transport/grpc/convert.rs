@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 
 use super::pb;
 use crate::api::{
-    AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
-    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
-    ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
+    ActionBody, AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto,
+    DirectiveBody, InterpretationDto, MethodBody, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody,
+    Scalar, SceneBody, ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
 };
 use crate::error::Error;
 
@@ -217,6 +217,7 @@ impl From<DecisionDto> for pb::ClarifyResponse {
             goal: d.goal,
             interpretations: d.interpretations.into_iter().map(Into::into).collect(),
             norm_version: d.norm_version,
+            library_version: d.library_version,
             text: d.text,
             offered: d.offered,
             limits: d.limits.map(|l| pb::Limits {
@@ -329,6 +330,52 @@ impl From<CheckDto> for pb::CheckResponse {
                 .collect(),
             utterance: c.utterance,
             norm_version: c.norm_version,
+        }
+    }
+}
+
+impl From<pb::Action> for ActionBody {
+    fn from(a: pb::Action) -> Self {
+        ActionBody {
+            name: a.name,
+            parameters: a.parameters,
+            joiner: a.joiner,
+            methods: a
+                .methods
+                .into_iter()
+                .map(|m| MethodBody {
+                    steps: m.steps,
+                    reach: m.reach,
+                    grasp: m.grasp,
+                    place: (!m.place.is_empty()).then_some(m.place),
+                    preconditions: m.preconditions,
+                    adds: m.adds,
+                    removes: m.removes,
+                })
+                .collect(),
+        }
+    }
+}
+
+impl From<ActionBody> for pb::Action {
+    fn from(a: ActionBody) -> Self {
+        pb::Action {
+            name: a.name,
+            parameters: a.parameters,
+            joiner: a.joiner,
+            methods: a
+                .methods
+                .into_iter()
+                .map(|m| pb::Method {
+                    steps: m.steps,
+                    reach: m.reach,
+                    grasp: m.grasp,
+                    place: m.place.unwrap_or_default(),
+                    preconditions: m.preconditions,
+                    adds: m.adds,
+                    removes: m.removes,
+                })
+                .collect(),
         }
     }
 }

@@ -9,7 +9,9 @@ mod convert;
 
 use tonic::{Request, Response, Status};
 
-use crate::api::{CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto};
+use crate::api::{
+    ActionBody, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto,
+};
 use crate::error::Error;
 use crate::transport::AppState;
 
@@ -21,6 +23,7 @@ pub mod pb {
     pub const FILE_DESCRIPTOR_SET: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scruple_descriptor.bin"));
 }
 
+use pb::actions_server::{Actions, ActionsServer};
 use pb::clarifier_server::{Clarifier, ClarifierServer};
 use pb::norms_server::{Norms, NormsServer};
 
@@ -29,6 +32,10 @@ pub struct ClarifierService {
 }
 
 pub struct NormsService {
+    state: AppState,
+}
+
+pub struct ActionsService {
     state: AppState,
 }
 
@@ -86,6 +93,47 @@ impl Norms for NormsService {
     }
 }
 
+#[tonic::async_trait]
+impl Actions for ActionsService {
+    async fn list_actions(
+        &self,
+        _: Request<pb::ListActionsRequest>,
+    ) -> Result<Response<pb::ListActionsResponse>, Status> {
+        let actions = self.state.core.list_actions().await?;
+        Ok(Response::new(pb::ListActionsResponse {
+            actions: actions.into_iter().map(|a| ActionBody::from(a).into()).collect(),
+        }))
+    }
+
+    async fn get_action(&self, request: Request<pb::GetActionRequest>) -> Result<Response<pb::Action>, Status> {
+        let action = self.state.core.get_action(&request.into_inner().name).await?;
+        Ok(Response::new(ActionBody::from(action).into()))
+    }
+
+    async fn put_action(
+        &self,
+        request: Request<pb::PutActionRequest>,
+    ) -> Result<Response<pb::PutActionResponse>, Status> {
+        authorize(&self.state, &request)?;
+        let request = request.into_inner();
+        let body = ActionBody::from(request.action.unwrap_or_default());
+        let (stored, created) = self.state.core.put_action(&request.name, body.into()).await?;
+        Ok(Response::new(pb::PutActionResponse {
+            action: Some(ActionBody::from(stored).into()),
+            created,
+        }))
+    }
+
+    async fn delete_action(
+        &self,
+        request: Request<pb::DeleteActionRequest>,
+    ) -> Result<Response<pb::DeleteActionResponse>, Status> {
+        authorize(&self.state, &request)?;
+        self.state.core.delete_action(&request.into_inner().name).await?;
+        Ok(Response::new(pb::DeleteActionResponse {}))
+    }
+}
+
 /// The gRPC services as an axum router: scruple.v1, `grpc.health.v1.Health` (SERVING: the store
 /// is open and migrated before this is built) and reflection, both v1 and v1alpha (older grpcurl
 /// speaks only v1alpha).
@@ -93,6 +141,7 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
     let (health_reporter, health) = tonic_health::server::health_reporter();
     health_reporter.set_serving::<ClarifierServer<ClarifierService>>().await;
     health_reporter.set_serving::<NormsServer<NormsService>>().await;
+    health_reporter.set_serving::<ActionsServer<ActionsService>>().await;
     let reflection = || {
         tonic_reflection::server::Builder::configure()
             .register_encoded_file_descriptor_set(pb::FILE_DESCRIPTOR_SET)
@@ -108,6 +157,7 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
         .add_service(reflection_v1)
         .add_service(reflection_v1alpha)
         .add_service(ClarifierServer::new(ClarifierService { state: state.clone() }))
-        .add_service(NormsServer::new(NormsService { state }))
+        .add_service(NormsServer::new(NormsService { state: state.clone() }))
+        .add_service(ActionsServer::new(ActionsService { state }))
         .into_axum_router())
 }

@@ -17,6 +17,7 @@ use utoipa::{Modify, OpenApi, ToSchema};
     tags(
         (name = "clarify", description = "Decisions about directives"),
         (name = "norms", description = "The norms every decision is checked against; writes need the admin token when one is set"),
+        (name = "actions", description = "The action library (verbs as data); writes need the admin token when one is set"),
         (name = "service", description = "Health"),
     ),
     modifiers(&AdminToken),

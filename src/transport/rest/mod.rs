@@ -16,7 +16,7 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use crate::api::{
-    CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
+    ActionBody, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
 };
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::AppState;
@@ -32,6 +32,8 @@ fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(get_norm, delete_norm))
         .routes(routes!(clarify))
         .routes(routes!(check))
+        .routes(routes!(list_actions))
+        .routes(routes!(get_action, put_action, delete_action))
 }
 
 /// The OpenAPI 3.1 document of the REST API, as `openapi/openapi.json` holds it.
@@ -224,4 +226,86 @@ async fn check(State(app): State<AppState>, JsonBody(body): JsonBody<CheckBody>)
     let input = CheckInput::try_from(body)?;
     let check = app.core.check(input).await?;
     Ok(Json(CheckDto::from(&check)))
+}
+
+/// A verb name from the path.
+fn verb_name(text: &str) -> Result<&str, Error> {
+    if text.is_empty() || text.len() > 64 {
+        return Err(Error::NotFound {
+            what: format!("verb `{text}`"),
+        });
+    }
+    Ok(text)
+}
+
+#[utoipa::path(get, path = "/v1/actions", tag = "actions",
+    summary = "Every verb of the action library, by name",
+    responses(
+        (status = 200, description = "The verbs", body = Vec<ActionBody>),
+        (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn list_actions(State(app): State<AppState>) -> Result<Json<Vec<ActionBody>>, Error> {
+    Ok(Json(
+        app.core
+            .list_actions()
+            .await?
+            .into_iter()
+            .map(ActionBody::from)
+            .collect(),
+    ))
+}
+
+#[utoipa::path(get, path = "/v1/actions/{name}", tag = "actions",
+    summary = "One verb",
+    params(("name" = String, Path, description = "The verb, e.g. `put`")),
+    responses(
+        (status = 200, description = "The verb", body = ActionBody,
+         example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
+        (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn get_action(State(app): State<AppState>, Path(name): Path<String>) -> Result<Json<ActionBody>, Error> {
+    Ok(Json(app.core.get_action(verb_name(&name)?).await?.into()))
+}
+
+#[utoipa::path(put, path = "/v1/actions/{name}", tag = "actions",
+    summary = "Add or replace a verb; nothing is stored unless it is valid and its steps do not loop",
+    params(("name" = String, Path, description = "The verb, e.g. `open`")),
+    request_body(content = ActionBody, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
+    security((), ("admin_token" = [])),
+    responses(
+        (status = 200, description = "Replaced; the verb as stored", body = ActionBody),
+        (status = 201, description = "Added; the verb as stored", body = ActionBody),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn put_action(
+    State(app): State<AppState>,
+    _: Admin,
+    Path(name): Path<String>,
+    JsonBody(body): JsonBody<ActionBody>,
+) -> Result<Response, Error> {
+    let (stored, created) = app.core.put_action(verb_name(&name)?, body.into()).await?;
+    let status = if created { StatusCode::CREATED } else { StatusCode::OK };
+    Ok((status, Json(ActionBody::from(stored))).into_response())
+}
+
+#[utoipa::path(delete, path = "/v1/actions/{name}", tag = "actions",
+    summary = "Remove a verb; readings that use it become `unknown_action`",
+    params(("name" = String, Path, description = "The verb")),
+    security((), ("admin_token" = [])),
+    responses(
+        (status = 204, description = "Removed"),
+        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn delete_action(State(app): State<AppState>, _: Admin, Path(name): Path<String>) -> Result<StatusCode, Error> {
+    app.core.delete_action(verb_name(&name)?).await?;
+    Ok(StatusCode::NO_CONTENT)
 }

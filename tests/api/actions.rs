@@ -1,0 +1,343 @@
+//! The action library over the API: seeded defaults, verbs added and replaced as data, several
+//! methods per verb, validation, the admin token, and failing closed on a broken library.
+
+use reqwest::StatusCode;
+use scruple::engine::Library;
+use scruple::transport::grpc::pb;
+use serde_json::{Value, json};
+
+use crate::helpers::{Options, TestApp, assert_problem, lab_scene, spawn_app, spawn_on, spawn_with};
+
+async fn put(app: &TestApp, name: &str, verb: &Value) -> reqwest::Response {
+    app.client
+        .put(app.url(&format!("/v1/actions/{name}")))
+        .json(verb)
+        .send()
+        .await
+        .unwrap()
+}
+
+fn request(action: &str, types: &[&str], scene: Value) -> Value {
+    let arguments: Vec<Value> = types.iter().map(|t| json!({"type": t})).collect();
+    json!({"directive": {"action": action, "arguments": arguments}, "scene": scene})
+}
+
+fn boxes(facts: &[&str]) -> Value {
+    json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9},
+           "objects": [{"id": "box1", "type": "box", "position": [0.5, 0, 0.8]}],
+           "facts": facts})
+}
+
+#[tokio::test]
+async fn a_fresh_store_holds_the_contracts_default_library() {
+    let app = spawn_app().await;
+    let listed: Vec<Value> = app.get("/v1/actions").await.json().await.unwrap();
+    let expected: Vec<Value> = Library::default_library()
+        .verbs()
+        .into_iter()
+        .map(|def| serde_json::to_value(scruple::api::ActionBody::from(def.to_input())).unwrap())
+        .collect();
+    assert_eq!(listed, expected, "the migration seeds exactly the built-in library");
+    let put_verb: Value = app.get("/v1/actions/put").await.json().await.unwrap();
+    assert_eq!(
+        put_verb,
+        json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"],
+               "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})
+    );
+    assert_problem(app.get("/v1/actions/juggle").await, StatusCode::NOT_FOUND, None).await;
+}
+
+#[tokio::test]
+async fn a_new_verb_is_simulated_with_its_preconditions_and_effects() {
+    let app = spawn_app().await;
+    let open = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]});
+    let response = put(&app, "open", &open).await;
+    assert_eq!(response.status(), StatusCode::CREATED);
+    let stored: Value = response.json().await.unwrap();
+    assert_eq!(
+        stored["methods"][0]["steps"],
+        json!(["itself"]),
+        "itself is made explicit"
+    );
+
+    let closed = app.clarify(&request("open", &["box"], boxes(&["closed(box1)"]))).await;
+    assert_eq!(closed["decision"], "comply");
+    assert_eq!(closed["library_version"], 2);
+    let already = app.clarify(&request("open", &["box"], boxes(&[]))).await;
+    assert_eq!(already["decision"], "refuse");
+    assert_eq!(
+        already["utterance"],
+        "I cannot open the box because the box is not closed."
+    );
+    assert_eq!(
+        already["interpretations"][0]["reasons"][0],
+        json!({"kind": "precondition", "detail": "closed(box1)", "words": "the box is not closed"})
+    );
+
+    // Replacing it: 200, and the very next request uses the new definition.
+    let no_precondition = json!({"parameters": ["X"], "methods": [{"adds": ["open(X)"]}]});
+    assert_eq!(put(&app, "open", &no_precondition).await.status(), StatusCode::OK);
+    let answer = app.clarify(&request("open", &["box"], boxes(&[]))).await;
+    assert_eq!(
+        (answer["decision"].as_str(), answer["library_version"].as_i64()),
+        (Some("comply"), Some(3))
+    );
+
+    // A forbidden state entered by the new verb's effects is caught like any other.
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "open(X)", "when": ["box(X)"]}))
+        .await;
+    let answer = app.clarify(&request("open", &["box"], boxes(&[]))).await;
+    assert_eq!(
+        answer["utterance"],
+        "I cannot open the box because it requires a forbidden state."
+    );
+}
+
+#[tokio::test]
+async fn a_reading_is_acceptable_when_any_method_is_and_otherwise_carries_every_methods_reasons() {
+    let app = spawn_app().await;
+    let tidy = json!({"parameters": ["X"], "methods": [{"steps": ["get(X)"]}, {"steps": ["pointTo(X)"]}]});
+    assert_eq!(put(&app, "tidy", &tidy).await.status(), StatusCode::CREATED);
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "get(X)", "when": ["fragile(X)"]}))
+        .await;
+
+    let answer = app.clarify(&request("tidy", &["vase"], lab_scene())).await;
+    // The plastic vase by the first method; the fragile one by the second (pointing only).
+    assert_eq!(answer["decision"], "ask");
+    let plans: Vec<&Value> = answer["interpretations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| &i["plan"])
+        .collect();
+    assert_eq!(
+        plans,
+        [
+            &json!(["pointTo(object3)", "tidy(object3)"]),
+            &json!(["get(object4)", "tidy(object4)"])
+        ]
+    );
+
+    let pointing = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "pointTo"}))
+        .await;
+    let answer = app.clarify(&request("tidy", &["vase"], lab_scene())).await;
+    assert_eq!(answer["decision"], "assume");
+    let kinds: Vec<(&str, &str)> = answer["interpretations"][0]["reasons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["kind"].as_str().unwrap(), r["detail"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            ("forbidden_action", "get(object3)"),
+            ("forbidden_action", "pointTo(object3)")
+        ]
+    );
+    assert_eq!(
+        answer["utterance"],
+        "I am assuming you want me to tidy the plastic vase. I cannot tidy the fragile vase because get is forbidden action."
+    );
+    assert!(pointing > 0);
+}
+
+#[tokio::test]
+async fn bad_verbs_name_their_field_and_store_nothing() {
+    let app = spawn_app().await;
+    let cases = [
+        (
+            "open",
+            json!({"parameters": ["X"], "methods": [{"adds": ["open(Y)"]}]}),
+            "/methods/0/adds/0",
+        ),
+        ("open", json!({"parameters": ["x"], "methods": [{}]}), "/parameters/0"),
+        ("open", json!({"parameters": ["X"], "methods": []}), "/methods"),
+        ("open", json!({"parameters": ["X"]}), "/methods"),
+        (
+            "open",
+            json!({"name": "shut", "parameters": ["X"], "methods": [{}]}),
+            "/name",
+        ),
+        (
+            "open",
+            json!({"parameters": ["X"], "methods": [{"steps": ["open(X)"]}]}),
+            "/methods/0/steps/0",
+        ),
+        (
+            "open",
+            json!({"parameters": ["X"], "methods": [{"reach": ["Y"]}]}),
+            "/methods/0/reach/0",
+        ),
+        (
+            "open",
+            json!({"parameters": ["X"], "methods": [{"stesp": ["get(X)"]}]}),
+            "/methods/0/stesp",
+        ),
+        ("Open", json!({"parameters": ["X"], "methods": [{}]}), "/name"),
+    ];
+    for (name, verb, field) in cases {
+        assert_problem(
+            put(&app, name, &verb).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+    }
+    // A loop through the library: carry calls fetch calls carry.
+    let fetch = json!({"parameters": ["X"], "methods": [{"steps": ["carry(X)"]}]});
+    assert_eq!(put(&app, "fetch", &fetch).await.status(), StatusCode::CREATED);
+    let carry = json!({"parameters": ["X"], "methods": [{"steps": ["fetch(X)"]}]});
+    let problem = assert_problem(put(&app, "carry", &carry).await, StatusCode::UNPROCESSABLE_ENTITY, None).await;
+    let detail = problem["detail"].as_str().unwrap();
+    assert!(
+        detail.contains("call back into the verb") && detail.contains("fetch →") && detail.contains("carry →"),
+        "{problem}"
+    );
+    assert_problem(app.get("/v1/actions/carry").await, StatusCode::NOT_FOUND, None).await;
+    assert_eq!(
+        app.get("/v1/actions").await.json::<Vec<Value>>().await.unwrap().len(),
+        6
+    );
+}
+
+#[tokio::test]
+async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() {
+    let app = spawn_with(Options {
+        admin_token: Some("t0ken".into()),
+        ..Options::default()
+    })
+    .await;
+    let verb = json!({"parameters": ["X"], "methods": [{}]});
+    assert_problem(put(&app, "wave", &verb).await, StatusCode::UNAUTHORIZED, None).await;
+    let wrong = app
+        .client
+        .put(app.url("/v1/actions/wave"))
+        .bearer_auth("nope")
+        .json(&verb)
+        .send()
+        .await
+        .unwrap();
+    assert_problem(wrong, StatusCode::FORBIDDEN, None).await;
+    assert_problem(app.delete("/v1/actions/get").await, StatusCode::UNAUTHORIZED, None).await;
+    assert_eq!(
+        app.clarify(&request("get", &["mug"], lab_scene())).await["decision"],
+        "comply"
+    );
+
+    let deleted = app
+        .client
+        .delete(app.url("/v1/actions/get"))
+        .bearer_auth("t0ken")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(deleted.status(), StatusCode::NO_CONTENT);
+    let answer = app.clarify(&request("get", &["mug"], lab_scene())).await;
+    assert_eq!(
+        answer["utterance"],
+        "I cannot get the mug because I do not know how to get."
+    );
+    let again = app
+        .client
+        .delete(app.url("/v1/actions/get"))
+        .bearer_auth("t0ken")
+        .send()
+        .await
+        .unwrap();
+    assert_problem(again, StatusCode::NOT_FOUND, None).await;
+
+    // Over gRPC: the same library, the same token rule.
+    let channel = tonic::transport::Channel::from_shared(app.base.clone())
+        .unwrap()
+        .connect()
+        .await
+        .unwrap();
+    let mut actions = pb::actions_client::ActionsClient::new(channel);
+    let listed = actions
+        .list_actions(pb::ListActionsRequest {})
+        .await
+        .unwrap()
+        .into_inner()
+        .actions;
+    assert_eq!(
+        listed.iter().map(|a| a.name.clone().unwrap()).collect::<Vec<_>>(),
+        ["destroy", "pointTo", "put", "steal"]
+    );
+    let status = actions
+        .put_action(pb::PutActionRequest {
+            name: "wave".into(),
+            action: Some(pb::Action {
+                parameters: vec!["X".into()],
+                methods: vec![pb::Method::default()],
+                ..Default::default()
+            }),
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), tonic::Code::Unauthenticated);
+    let mut authorised = tonic::Request::new(pb::PutActionRequest {
+        name: "get".into(),
+        action: Some(pb::Action {
+            parameters: vec!["X".into()],
+            methods: vec![pb::Method {
+                reach: vec!["X".into()],
+                adds: vec!["holding(self,X)".into()],
+                ..Default::default()
+            }],
+            ..Default::default()
+        }),
+    });
+    authorised
+        .metadata_mut()
+        .insert("authorization", "Bearer t0ken".parse().unwrap());
+    assert!(actions.put_action(authorised).await.unwrap().into_inner().created);
+    assert_eq!(
+        app.clarify(&request("get", &["mug"], lab_scene())).await["decision"],
+        "comply"
+    );
+}
+
+#[tokio::test]
+async fn another_process_sees_a_verb_change_on_its_next_request() {
+    let one = spawn_app().await;
+    let other = spawn_on(one.dir.clone(), Options::default()).await;
+    assert_eq!(
+        other.clarify(&request("wave", &["mug"], lab_scene())).await["decision"],
+        "refuse"
+    );
+    assert_eq!(
+        put(&one, "wave", &json!({"parameters": ["X"], "methods": [{}]}))
+            .await
+            .status(),
+        StatusCode::CREATED
+    );
+    assert_eq!(
+        other.clarify(&request("wave", &["mug"], lab_scene())).await["decision"],
+        "comply"
+    );
+}
+
+#[tokio::test]
+async fn an_unreadable_verb_in_the_store_fails_closed() {
+    let app = spawn_app().await;
+    let mut connection = {
+        use sqlx::ConnectOptions;
+        sqlx::sqlite::SqliteConnectOptions::new()
+            .filename(&app.db_path)
+            .connect()
+            .await
+            .unwrap()
+    };
+    sqlx::query("UPDATE actions SET definition = '{\"parameters\": [\"x\"]}' WHERE name = 'get'; UPDATE action_set SET version = version + 1")
+        .execute(&mut connection)
+        .await
+        .unwrap();
+    assert_problem(
+        app.post("/v1/clarify", &request("get", &["mug"], lab_scene())).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+}
