@@ -10,7 +10,6 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::engine::action::{ActionInput, MethodInput};
 use crate::engine::check::Check;
 use crate::engine::clarify::{
     Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
@@ -1060,99 +1059,6 @@ impl From<&Check> for CheckDto {
                 .collect(),
             utterance: check.utterance.clone(),
             norm_version: check.norm_version,
-        }
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Actions: the verb library as data
-
-/// A verb: its parameters (variables), the word joining its arguments when spoken, and one or
-/// more methods. A reading is permissible and feasible when any method is.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct ActionBody {
-    /// The verb's name; when sent, it must equal the name in the path.
-    #[serde(default)]
-    pub name: Option<String>,
-    /// Variables such as `X`, bound to the arguments in order.
-    #[serde(default)]
-    pub parameters: Vec<String>,
-    /// "on" for put: "put the cup on the plate".
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub joiner: Option<String>,
-    pub methods: Vec<MethodBody>,
-}
-
-/// One way of carrying a verb out. Terms are written over the verb's parameters.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct MethodBody {
-    /// Actions in order, and `itself` for the verb's own execution (appended when absent).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub steps: Vec<String>,
-    /// Parameters whose object must be within reach (and clear of obstacles) for `itself`.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub reach: Vec<String>,
-    /// Parameters whose object the gripper closes around (aperture and payload).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub grasp: Vec<String>,
-    /// `[item, support]`: the support must have room for the item.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub place: Option<Vec<String>>,
-    /// Facts that must hold when `itself` runs: `open(X)`.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub preconditions: Vec<String>,
-    /// Facts `itself` makes true (besides `did(self,action)`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub adds: Vec<String>,
-    /// Facts `itself` makes false.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub removes: Vec<String>,
-}
-
-impl From<ActionBody> for ActionInput {
-    fn from(a: ActionBody) -> Self {
-        ActionInput {
-            name: a.name,
-            parameters: a.parameters,
-            joiner: a.joiner,
-            methods: a
-                .methods
-                .into_iter()
-                .map(|m| MethodInput {
-                    steps: m.steps,
-                    reach: m.reach,
-                    grasp: m.grasp,
-                    place: m.place,
-                    preconditions: m.preconditions,
-                    adds: m.adds,
-                    removes: m.removes,
-                })
-                .collect(),
-        }
-    }
-}
-
-impl From<ActionInput> for ActionBody {
-    fn from(a: ActionInput) -> Self {
-        ActionBody {
-            name: a.name,
-            parameters: a.parameters,
-            joiner: a.joiner,
-            methods: a
-                .methods
-                .into_iter()
-                .map(|m| MethodBody {
-                    steps: m.steps,
-                    reach: m.reach,
-                    grasp: m.grasp,
-                    place: m.place,
-                    preconditions: m.preconditions,
-                    adds: m.adds,
-                    removes: m.removes,
-                })
-                .collect(),
         }
     }
 }

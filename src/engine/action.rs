@@ -76,38 +76,51 @@ impl ActionDef {
     }
 }
 
-/// A verb as a curator writes it (and as the store keeps it): terms as text.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+/// A verb as a curator writes it, as the API carries it and as the store keeps it: terms as
+/// text. (Its schema derive documents the wire shape; it adds no behaviour.)
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
+#[schema(as = Action)]
 pub struct ActionInput {
+    /// The verb's name; when sent, it must equal the name it is stored as (the request's path).
     #[serde(default)]
     pub name: Option<String>,
+    /// Variables such as `X`, bound to the arguments in order.
     #[serde(default)]
     pub parameters: Vec<String>,
+    /// The word joining the arguments when spoken: `on` for "put the cup on the plate".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joiner: Option<String>,
+    /// One or more ways of carrying the verb out; a reading is acceptable when any is.
     #[serde(default)]
     pub methods: Vec<MethodInput>,
 }
 
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+/// One way of carrying a verb out. Terms are written over the verb's parameters.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
+#[schema(as = Method)]
 pub struct MethodInput {
     /// Action terms, and the word `itself` for the verb's own execution; default `["itself"]`,
     /// and `itself` is appended when not listed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub steps: Vec<String>,
+    /// Parameters whose object must be within reach, with a clear path, for `itself`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub reach: Vec<String>,
+    /// Parameters whose object the gripper closes around (aperture and payload).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub grasp: Vec<String>,
-    /// `[item, support]`.
+    /// `[item, support]`: the support must have room for the item.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub place: Option<Vec<String>>,
+    /// Facts that must hold when `itself` runs: `closed(X)`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub preconditions: Vec<String>,
+    /// Facts `itself` makes true (besides `did(self,action)`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub adds: Vec<String>,
+    /// Facts `itself` makes false.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub removes: Vec<String>,
 }

@@ -35,7 +35,7 @@ async fn a_fresh_store_holds_the_contracts_default_library() {
     let expected: Vec<Value> = Library::default_library()
         .verbs()
         .into_iter()
-        .map(|def| serde_json::to_value(scruple::api::ActionBody::from(def.to_input())).unwrap())
+        .map(|def| serde_json::to_value(def.to_input()).unwrap())
         .collect();
     assert_eq!(listed, expected, "the migration seeds exactly the built-in library");
     let put_verb: Value = app.get("/v1/actions/put").await.json().await.unwrap();

@@ -7,10 +7,11 @@ use std::collections::BTreeMap;
 
 use super::pb;
 use crate::api::{
-    ActionBody, AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto,
-    DirectiveBody, InterpretationDto, MethodBody, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody,
-    Scalar, SceneBody, ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
+    AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
+    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
+    ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
 };
+use crate::engine::action::{ActionInput, MethodInput};
 use crate::error::Error;
 
 fn missing(field: &str) -> Error {
@@ -334,16 +335,16 @@ impl From<CheckDto> for pb::CheckResponse {
     }
 }
 
-impl From<pb::Action> for ActionBody {
+impl From<pb::Action> for ActionInput {
     fn from(a: pb::Action) -> Self {
-        ActionBody {
+        ActionInput {
             name: a.name,
             parameters: a.parameters,
             joiner: a.joiner,
             methods: a
                 .methods
                 .into_iter()
-                .map(|m| MethodBody {
+                .map(|m| MethodInput {
                     steps: m.steps,
                     reach: m.reach,
                     grasp: m.grasp,
@@ -357,8 +358,8 @@ impl From<pb::Action> for ActionBody {
     }
 }
 
-impl From<ActionBody> for pb::Action {
-    fn from(a: ActionBody) -> Self {
+impl From<ActionInput> for pb::Action {
+    fn from(a: ActionInput) -> Self {
         pb::Action {
             name: a.name,
             parameters: a.parameters,

@@ -9,9 +9,8 @@ mod convert;
 
 use tonic::{Request, Response, Status};
 
-use crate::api::{
-    ActionBody, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto,
-};
+use crate::api::{CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto};
+use crate::engine::action::ActionInput;
 use crate::error::Error;
 use crate::transport::AppState;
 
@@ -101,13 +100,13 @@ impl Actions for ActionsService {
     ) -> Result<Response<pb::ListActionsResponse>, Status> {
         let actions = self.state.core.list_actions().await?;
         Ok(Response::new(pb::ListActionsResponse {
-            actions: actions.into_iter().map(|a| ActionBody::from(a).into()).collect(),
+            actions: actions.into_iter().map(Into::into).collect(),
         }))
     }
 
     async fn get_action(&self, request: Request<pb::GetActionRequest>) -> Result<Response<pb::Action>, Status> {
         let action = self.state.core.get_action(&request.into_inner().name).await?;
-        Ok(Response::new(ActionBody::from(action).into()))
+        Ok(Response::new(action.into()))
     }
 
     async fn put_action(
@@ -116,10 +115,10 @@ impl Actions for ActionsService {
     ) -> Result<Response<pb::PutActionResponse>, Status> {
         authorize(&self.state, &request)?;
         let request = request.into_inner();
-        let body = ActionBody::from(request.action.unwrap_or_default());
-        let (stored, created) = self.state.core.put_action(&request.name, body.into()).await?;
+        let body = ActionInput::from(request.action.unwrap_or_default());
+        let (stored, created) = self.state.core.put_action(&request.name, body).await?;
         Ok(Response::new(pb::PutActionResponse {
-            action: Some(ActionBody::from(stored).into()),
+            action: Some(stored.into()),
             created,
         }))
     }

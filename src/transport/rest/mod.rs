@@ -16,8 +16,9 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use crate::api::{
-    ActionBody, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
+    CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
 };
+use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::AppState;
 
@@ -241,41 +242,34 @@ fn verb_name(text: &str) -> Result<&str, Error> {
 #[utoipa::path(get, path = "/v1/actions", tag = "actions",
     summary = "Every verb of the action library, by name",
     responses(
-        (status = 200, description = "The verbs", body = Vec<ActionBody>),
+        (status = 200, description = "The verbs", body = Vec<ActionInput>),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn list_actions(State(app): State<AppState>) -> Result<Json<Vec<ActionBody>>, Error> {
-    Ok(Json(
-        app.core
-            .list_actions()
-            .await?
-            .into_iter()
-            .map(ActionBody::from)
-            .collect(),
-    ))
+async fn list_actions(State(app): State<AppState>) -> Result<Json<Vec<ActionInput>>, Error> {
+    Ok(Json(app.core.list_actions().await?))
 }
 
 #[utoipa::path(get, path = "/v1/actions/{name}", tag = "actions",
     summary = "One verb",
     params(("name" = String, Path, description = "The verb, e.g. `put`")),
     responses(
-        (status = 200, description = "The verb", body = ActionBody,
+        (status = 200, description = "The verb", body = ActionInput,
          example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn get_action(State(app): State<AppState>, Path(name): Path<String>) -> Result<Json<ActionBody>, Error> {
-    Ok(Json(app.core.get_action(verb_name(&name)?).await?.into()))
+async fn get_action(State(app): State<AppState>, Path(name): Path<String>) -> Result<Json<ActionInput>, Error> {
+    Ok(Json(app.core.get_action(verb_name(&name)?).await?))
 }
 
 #[utoipa::path(put, path = "/v1/actions/{name}", tag = "actions",
     summary = "Add or replace a verb; nothing is stored unless it is valid and its steps do not loop",
     params(("name" = String, Path, description = "The verb, e.g. `open`")),
-    request_body(content = ActionBody, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
+    request_body(content = ActionInput, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
     security((), ("admin_token" = [])),
     responses(
-        (status = 200, description = "Replaced; the verb as stored", body = ActionBody),
-        (status = 201, description = "Added; the verb as stored", body = ActionBody),
+        (status = 200, description = "Replaced; the verb as stored", body = ActionInput),
+        (status = 201, description = "Added; the verb as stored", body = ActionInput),
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
         (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
@@ -287,11 +281,11 @@ async fn put_action(
     State(app): State<AppState>,
     _: Admin,
     Path(name): Path<String>,
-    JsonBody(body): JsonBody<ActionBody>,
+    JsonBody(body): JsonBody<ActionInput>,
 ) -> Result<Response, Error> {
-    let (stored, created) = app.core.put_action(verb_name(&name)?, body.into()).await?;
+    let (stored, created) = app.core.put_action(verb_name(&name)?, body).await?;
     let status = if created { StatusCode::CREATED } else { StatusCode::OK };
-    Ok((status, Json(ActionBody::from(stored))).into_response())
+    Ok((status, Json(stored)).into_response())
 }
 
 #[utoipa::path(delete, path = "/v1/actions/{name}", tag = "actions",
