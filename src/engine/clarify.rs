@@ -6,7 +6,10 @@
 //! `speech`), or offer, assume, confirm or obey a reading that is impermissible or infeasible
 //! under the moral strategy.
 
+use std::cmp::Reverse;
 use std::collections::BTreeMap;
+
+use rayon::prelude::*;
 use std::sync::Arc;
 
 use super::action::Library;
@@ -23,6 +26,10 @@ pub const DEFAULT_MAX_SPOKEN: usize = 5;
 pub const DEFAULT_MAX_READINGS: usize = 10_000;
 /// How many of the likeliest readings are named when there are too many to name them all.
 pub const FEW: usize = 3;
+/// From this many readings on, simulation runs on rayon's pool (measured: see BENCHMARKS.md).
+pub const PARALLEL_FROM: usize = 64;
+/// Readings simulated between two looks at the deadline when running in parallel.
+const PARALLEL_BATCH: usize = 512;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Strategy {
@@ -277,6 +284,24 @@ pub enum EngineError {
     NothingAsked { decision: &'static str },
 }
 
+/// A score ordered by `f64::total_cmp`, so readings sort the same on every run.
+#[derive(PartialEq)]
+struct Score(f64);
+
+impl Eq for Score {}
+
+impl PartialOrd for Score {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Score {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
 /// One argument (or variable) of the directive and its candidates.
 struct Slot {
     candidates: Vec<(Term, f64)>,
@@ -500,12 +525,7 @@ pub fn clarify(
         return Ok(finish(Plan::Unresolved(vec![words]), Vec::new(), None, &mut describer));
     }
     // The contract's order, before simulating: likeliest first, so a deadline cuts the least likely.
-    readings.sort_by(|a, b| {
-        b.score
-            .total_cmp(&a.score)
-            .then_with(|| a.description.as_bytes().cmp(b.description.as_bytes()))
-            .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
-    });
+    readings.sort_by_cached_key(|r| (Reverse(Score(r.score)), r.description.clone(), r.action.to_string()));
 
     let base = Arc::new(Base::new(scene.all_facts()));
     let world = World::new(base);
@@ -519,14 +539,26 @@ pub fn clarify(
         },
     };
     let total = readings.len();
+    let simulate_one = |reading: &mut Interpretation| {
+        reading.outcome = simulate(&env, &world, &reading.action);
+        reading.action = did(&reading.action);
+    };
+    // Readings are simulated in batches, in the contract's order, with the deadline asked
+    // between batches (the first batch always runs). Many readings go to rayon's pool; each is
+    // independent and lands in its own slot, so the result is the same whatever the threads.
+    let batch = if total >= PARALLEL_FROM { PARALLEL_BATCH } else { 1 };
     let mut simulated = 0;
-    for reading in &mut readings {
+    while simulated < total {
         if simulated > 0 && expired() {
             break;
         }
-        reading.outcome = simulate(&env, &world, &reading.action);
-        reading.action = did(&reading.action);
-        simulated += 1;
+        let end = (simulated + batch).min(total);
+        if total >= PARALLEL_FROM {
+            readings[simulated..end].par_iter_mut().for_each(simulate_one);
+        } else {
+            readings[simulated..end].iter_mut().for_each(simulate_one);
+        }
+        simulated = end;
     }
     readings.truncate(simulated);
     let limits = (simulated < total).then_some(Limits {

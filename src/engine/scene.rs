@@ -6,8 +6,10 @@
 use std::collections::{BTreeMap, HashMap};
 use std::sync::OnceLock;
 
+use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
 use parry3d::na::{Quaternion, UnitQuaternion};
+use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, SharedShape};
 
@@ -71,6 +73,9 @@ pub struct Scene {
     reach_cache: Vec<OnceLock<bool>>,
     /// The first object in the way to each object, likewise computed at most once.
     clearance_cache: Vec<OnceLock<Option<usize>>>,
+    /// Bounding-volume hierarchy over the objects' world-frame boxes, built at the first
+    /// clearance query of a request (leaf index = object index; point objects have none).
+    bvh: OnceLock<Bvh>,
 }
 
 impl Scene {
@@ -86,6 +91,7 @@ impl Scene {
             by_id,
             reach_cache,
             clearance_cache,
+            bvh: OnceLock::new(),
         }
     }
 
@@ -134,6 +140,17 @@ impl Scene {
         let index = self.index_of(id)?;
         let blocker = *self.clearance_cache[index].get_or_init(|| first_in_the_way(self, index, size));
         blocker.map(|i| &self.objects[i])
+    }
+
+    fn bvh(&self) -> &Bvh {
+        self.bvh.get_or_init(|| {
+            let leaves = self
+                .objects
+                .iter()
+                .enumerate()
+                .filter_map(|(i, o)| parry_shape(o).map(|(pose, shape)| (i, shape.compute_aabb(&pose))));
+            Bvh::from_iter(BvhBuildStrategy::default(), leaves)
+        })
     }
 
     /// Objects of the given type other than `id`, in scene order.
@@ -247,12 +264,21 @@ fn first_in_the_way(scene: &Scene, target: usize, size: f64) -> Option<usize> {
         Some(_) => time_to(goal).unwrap_or(0.0),
         None => (length - size as Real).max(0.0),
     };
-    scene
-        .objects
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| *i != target)
-        .filter_map(|(i, o)| time_to(o).filter(|t| *t + 1e-6 < reach_goal).map(|t| (i, t)))
+    // Only objects whose boxes meet the box swept by the gripper can be in the way: the BVH
+    // finds them in about logarithmic time, and only they are shape-cast.
+    let end = start + direction * reach_goal;
+    let radius = Vector::repeat(size as Real);
+    let swept = Aabb::new(start.inf(&end) - radius, start.sup(&end) + radius);
+    let mut candidates: Vec<usize> = scene.bvh().intersect_aabb(&swept).map(|i| i as usize).collect();
+    candidates.sort_unstable();
+    candidates
+        .into_iter()
+        .filter(|&i| i != target)
+        .filter_map(|i| {
+            time_to(&scene.objects[i])
+                .filter(|t| *t + 1e-6 < reach_goal)
+                .map(|t| (i, t))
+        })
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         .map(|(i, _)| i)
 }

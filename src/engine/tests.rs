@@ -2070,3 +2070,40 @@ fn random_cases_reach_every_decision_and_reason_kind() {
         assert!(reasons.get(kind).is_some_and(|&n| n >= 10), "{kind}: {reasons:?}");
     }
 }
+
+/// Enough readings to run on rayon's pool: one thread or four, the same decision, byte for byte.
+#[test]
+fn the_decision_is_the_same_whatever_the_thread_count() {
+    let mut objects = Vec::new();
+    for i in 0..40 {
+        let far = if i % 7 == 0 { 3.0 } else { 0.5 };
+        objects.push(obj(
+            &format!("cup{i}"),
+            "cup",
+            &[],
+            &[],
+            [far, 0.01 * i as f64, 0.8],
+            None,
+        ));
+        objects.push(obj(
+            &format!("plate{i}"),
+            "plate",
+            &[],
+            &[],
+            [0.5, -0.01 * i as f64, 0.76],
+            None,
+        ));
+    }
+    let scene = scene(objects, &["fragile(cup3)", "fragile(cup5)"]);
+    let norms = norms(&[when(fa("put(X,Y)"), &["fragile(X)"]), fs("on(cup8,plate9)")]);
+    let request = act("put", vec![ty("cup"), ty("plate")]);
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| clarify(&request, &scene, &norms, &Library::default_library(), &|| false).unwrap())
+    };
+    let one = run_on(1);
+    assert_eq!(one.interpretations.len(), 1600);
+    assert!(one.interpretations.len() >= super::clarify::PARALLEL_FROM);
+    assert_eq!(one, run_on(4));
+    assert_eq!(one, run_on(2));
+}

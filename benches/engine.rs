@@ -1,0 +1,147 @@
+//! Engine benchmarks: the paper's "Get the vase.", readings × objects × norms, and the cost of
+//! one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
+//!
+//! The scene is built once per benchmark and reused, as the engine sees one per request: its
+//! per-request caches (reach, clearance) are warm after the first iteration.
+
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Duration;
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use scruple::api::{ClarifyBody, ClarifyInput};
+use scruple::engine::norms::{CompiledNorms, Norm};
+use scruple::engine::world::{Base, World};
+use scruple::engine::{Library, clarify};
+use serde_json::{Value, json};
+
+fn paper() -> Value {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/paper-demo.json");
+    serde_json::from_str(&std::fs::read_to_string(path).expect("../shared/scenarios/paper-demo.json")).unwrap()
+}
+
+fn input(body: Value) -> ClarifyInput {
+    let body: ClarifyBody = serde_json::from_value(body).unwrap();
+    ClarifyInput::try_from(body).unwrap()
+}
+
+fn compile(norms: &[Value]) -> CompiledNorms {
+    let norms = norms
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            let body: scruple::api::NormBody = serde_json::from_value(n.clone()).unwrap();
+            Norm {
+                id: i as i64 + 1,
+                spec: body.into_input().validate().unwrap(),
+            }
+        })
+        .collect();
+    CompiledNorms::compile(1, norms)
+}
+
+/// `count` cups with small box shapes, spread within reach; every tenth is fragile.
+fn objects(count: usize) -> Vec<Value> {
+    (0..count)
+        .map(|i| {
+            let angle = i as f64 * 0.61;
+            let r = 0.3 + 0.5 * ((i * 7919) % 1000) as f64 / 1000.0;
+            let mut o = json!({"id": format!("o{i}"), "type": "cup", "position": [r * angle.cos(), r * angle.sin(), 0.8],
+                               "shape": {"cuboid": {"half_extents": [0.03, 0.03, 0.05]}}});
+            if i % 10 == 0 {
+                o["properties"] = json!(["fragile"]);
+            }
+            o
+        })
+        .collect()
+}
+
+/// 100 norms of every kind, most of which never match, as a real norm set would be.
+fn hundred_norms() -> Vec<Value> {
+    let mut norms = Vec::new();
+    for i in 0..40 {
+        norms.push(json!({"kind": "forbidden_state", "state": format!("on(o{i},o{})", i + 1)}));
+    }
+    for i in 0..30 {
+        norms.push(json!({"kind": "forbidden_action", "action": format!("destroy(o{i})")}));
+    }
+    for i in 0..20 {
+        norms.push(json!({"kind": "forbidden_state", "state": "holding(self,X)", "when": ["fragile(X)", format!("near{i}(X)")]}));
+    }
+    for i in 0..9 {
+        norms.push(json!({"kind": "forbidden_action", "action": format!("verb{i}")}));
+    }
+    norms.push(json!({"kind": "forbidden_action", "action": "put(X,Y)", "when": ["fragile(X)"]}));
+    norms
+}
+
+fn bench_paper(c: &mut Criterion) {
+    let demo = paper();
+    let norms = compile(demo["norms"].as_array().unwrap());
+    let library = Library::default_library();
+    let vase =
+        input(json!({"directive": {"action": "get", "arguments": [{"type": "vase"}]}, "scene": demo["scenes"]["lab"]}));
+    c.bench_function("paper/get_the_vase", |b| {
+        b.iter(|| clarify(black_box(&vase.request), &vase.scene, &norms, &library, &|| false).unwrap())
+    });
+}
+
+fn bench_readings(c: &mut Criterion) {
+    let norms = compile(&hundred_norms());
+    let library = Library::default_library();
+    let mut group = c.benchmark_group("readings");
+    group.sample_size(10).measurement_time(Duration::from_secs(3));
+    for objects_count in [10usize, 1_000, 10_000] {
+        let scene = json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects(objects_count)});
+        for readings in [1usize, 10, 100, 1_000, 10_000] {
+            // put(X,Y) over the first a objects for X and the first b for Y: a × b readings.
+            let (a, b) = match readings {
+                1 => (1, 1),
+                10 => (10, 1),
+                100 => (10, 10),
+                1_000 => (100, 10),
+                _ => (100, 100),
+            };
+            if a > objects_count {
+                continue;
+            }
+            let ids = |n: usize| (0..n).map(|i| json!(format!("o{i}"))).collect::<Vec<_>>();
+            let request = input(json!({
+                "directive": {"form": "did(self,put(X,Y))", "bindings": {"X": ids(a), "Y": ids(b)}},
+                "scene": scene,
+                "options": {"max_readings": 100_000}
+            }));
+            let id = BenchmarkId::new(format!("objects_{objects_count}"), readings);
+            group.bench_with_input(id, &request, |bench, request| {
+                bench.iter(|| clarify(&request.request, &request.scene, &norms, &library, &|| false).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
+fn bench_world_copy(c: &mut Criterion) {
+    let mut group = c.benchmark_group("world_copy");
+    for count in [10usize, 10_000] {
+        let facts = (0..count).flat_map(|i| {
+            [
+                scruple::engine::Term::compound("cup", vec![scruple::engine::Term::constant(&format!("o{i}"))]),
+                scruple::engine::Term::compound(
+                    "on",
+                    vec![
+                        scruple::engine::Term::constant(&format!("o{i}")),
+                        scruple::engine::Term::constant("table"),
+                    ],
+                ),
+            ]
+        });
+        let world = World::new(Arc::new(Base::new(facts)));
+        group.bench_with_input(BenchmarkId::from_parameter(count), &world, |b, world| {
+            b.iter(|| black_box(world.clone()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_paper, bench_readings, bench_world_copy);
+criterion_main!(benches);
