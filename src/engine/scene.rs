@@ -3,7 +3,9 @@
 //! Owns: the validated scene model, the facts each object yields, and reach (a parry3d distance
 //! query). Must not: parse JSON or know about norms; a `Scene` is valid by construction.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+use rustc_hash::FxHashMap;
 use std::sync::OnceLock;
 
 use parry3d::bounding_volume::Aabb;
@@ -68,7 +70,7 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Ground facts given beside the objects.
     pub facts: Vec<Term>,
-    by_id: HashMap<String, usize>,
+    by_id: FxHashMap<String, usize>,
     /// Reachability per object, computed at most once per request and only for objects asked about.
     reach_cache: Vec<OnceLock<bool>>,
     /// The first object in the way to each object, likewise computed at most once.

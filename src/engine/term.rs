@@ -3,6 +3,7 @@
 //! Owns: `name(arg,...)`, variables (`X`, `?x`), `name:type` annotations (dropped at parse time),
 //! substitutions and matching. Must not: know about worlds, norms or any transport.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::sync::Arc;
 
@@ -110,6 +111,10 @@ impl Term {
 
     /// This term with every bound variable replaced by its value (followed through chains).
     pub fn substitute(&self, subst: &Subst) -> Term {
+        if subst.bindings.is_empty() || self.is_ground() {
+            // Nothing to replace: share the term instead of rebuilding it.
+            return self.clone();
+        }
         match self {
             Term::Var(_) => {
                 let resolved = subst.walk(self);
@@ -307,6 +312,13 @@ impl Subst {
         term
     }
 
+    fn resolve<'t>(&self, term: &'t Term) -> Cow<'t, Term> {
+        match term {
+            Term::Var(v) if self.get(v).is_some() => Cow::Owned(self.walk(term).clone()),
+            _ => Cow::Borrowed(term),
+        }
+    }
+
     fn occurs(&self, var: &Sym, term: &Term) -> bool {
         match self.walk(term) {
             Term::Var(v) => v == var,
@@ -318,9 +330,11 @@ impl Subst {
     /// Extends the substitution so that `a` and `b` become equal; on failure the substitution may
     /// hold partial bindings, so callers unify into a copy they can drop.
     pub fn unify(&mut self, a: &Term, b: &Term) -> bool {
-        let a = self.walk(a).clone();
-        let b = self.walk(b).clone();
-        match (&a, &b) {
+        // Only a bound variable is replaced by (a copy of) its value; everything else is unified
+        // in place, so matching a pattern against ground facts copies nothing.
+        let a = self.resolve(a);
+        let b = self.resolve(b);
+        match (a.as_ref(), b.as_ref()) {
             (Term::Var(x), Term::Var(y)) if x == y => true,
             (Term::Var(x), other) | (other, Term::Var(x)) => {
                 if self.occurs(x, other) {

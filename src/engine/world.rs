@@ -4,11 +4,12 @@
 //! Owns: fact storage indexed by functor and arity, overlays, and conjunctive queries over them.
 //! Must not: copy the base per reading (a copy costs what the simulation changes), or iterate a
 //! hash set where order reaches the output (every iteration here is in insertion order).
+//! Hashing is FxHash: the keys are terms the engine built, and speed matters per reading.
 
-use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
 use indexmap::IndexSet;
+use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
 
 use super::term::{Subst, Sym, Term};
 
@@ -22,9 +23,9 @@ fn key_of(term: &Term) -> Option<Key> {
 /// The facts of the scene, built once per request and shared by every reading.
 #[derive(Debug, Default)]
 pub struct Base {
-    facts: HashSet<Term>,
+    facts: FxHashSet<Term>,
     /// Facts by functor, in the order the scene states them.
-    index: HashMap<Key, Vec<Term>>,
+    index: FxHashMap<Key, Vec<Term>>,
 }
 
 impl Base {
@@ -55,17 +56,17 @@ impl Base {
 pub struct World {
     base: Arc<Base>,
     /// Facts made true by the simulation that the base does not hold, in the order made true.
-    added: IndexSet<Term>,
+    added: IndexSet<Term, FxBuildHasher>,
     /// Base facts the simulation made false.
-    removed: HashSet<Term>,
+    removed: FxHashSet<Term>,
 }
 
 impl World {
     pub fn new(base: Arc<Base>) -> World {
         World {
             base,
-            added: IndexSet::new(),
-            removed: HashSet::new(),
+            added: IndexSet::default(),
+            removed: FxHashSet::default(),
         }
     }
 

@@ -1,0 +1,61 @@
+//! The load benchmark's floor (bench-only, not part of the product): a minimal axum server that
+//! decodes the same clarify request type and encodes the same response type as Scruple, with no
+//! engine, no store and no validation. `scripts/bench-load.sh` measures Scruple against it.
+//!
+//! Usage: `cargo run --release --example floor -- 127.0.0.1:0` (prints `listening on ADDR`).
+
+use axum::routing::post;
+use axum::{Json, Router};
+use scruple::api::{ClarifyBody, DecisionDto, InterpretationDto, ReasonDto};
+
+/// The answer to the paper's "Get the vase.", built once; every request gets a copy of it.
+fn answer() -> DecisionDto {
+    let reading = |action: &str, description: &str, ok: bool| InterpretationDto {
+        action: format!("did(self,get({action}))"),
+        description: description.to_owned(),
+        permissible: ok,
+        feasible: true,
+        reasons: if ok {
+            vec![]
+        } else {
+            vec![ReasonDto {
+                kind: "forbidden_state".into(),
+                detail: format!("did(self,get({action}))"),
+                norm_id: Some(2),
+                severity: Some(3),
+                words: "it requires a forbidden state".into(),
+            }]
+        },
+        plan: vec![format!("get({action})")],
+        score: 1.0,
+    };
+    DecisionDto {
+        decision: "assume".into(),
+        utterance: "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.".into(),
+        speech_act: "assume(self,mean(human,did(self,get(object4))))".into(),
+        goal: Some("did(self,get(object4))".into()),
+        interpretations: vec![reading("object3", "the fragile vase", false), reading("object4", "the plastic vase", true)],
+        offered: vec!["did(self,get(object4))".into()],
+        limits: None,
+        norm_version: 3,
+        library_version: 1,
+        text: None,
+    }
+}
+
+#[tokio::main]
+async fn main() {
+    let addr = std::env::args().nth(1).unwrap_or_else(|| "127.0.0.1:0".to_owned());
+    let answer = answer();
+    let app = Router::new().route(
+        "/v1/clarify",
+        post(move |Json(body): Json<ClarifyBody>| {
+            let mut answer = answer.clone();
+            answer.text = body.directive.text;
+            async move { Json(answer) }
+        }),
+    );
+    let listener = tokio::net::TcpListener::bind(&addr).await.expect("bind");
+    println!("listening on {}", listener.local_addr().expect("bound"));
+    axum::serve(listener, app).await.expect("serve");
+}
