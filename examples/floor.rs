@@ -57,5 +57,9 @@ async fn main() {
     );
     let listener = tokio::net::TcpListener::bind(&addr).await.expect("bind");
     println!("listening on {}", listener.local_addr().expect("bound"));
+    // TCP_NODELAY, as Scruple sets it: the floor must not be slowed by what Scruple is not.
+    let listener = axum::serve::ListenerExt::tap_io(listener, |tcp| {
+        let _ = tcp.set_nodelay(true);
+    });
     axum::serve(listener, app).await.expect("serve");
 }

@@ -387,6 +387,22 @@ pub struct ClarifyInput {
 
 pub const DEFAULT_DEADLINE_MS: u64 = 2_000;
 
+impl ClarifyInput {
+    /// An upper bound on the readings this request can have, from its arguments' possible
+    /// candidates (every object for a reference, the bindings for a variable), before resolving.
+    pub fn at_most_readings(&self) -> u128 {
+        let objects = self.scene.objects.len() as u128;
+        match &self.request.directive {
+            Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, a| {
+                n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
+            }),
+            Directive::Form { bindings, .. } => bindings
+                .iter()
+                .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
+        }
+    }
+}
+
 /// A number option within its range, or an error naming it.
 fn ranged(field: &str, value: Option<u64>, range: std::ops::RangeInclusive<u64>, default: u64) -> Result<u64, Error> {
     match value {

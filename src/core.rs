@@ -16,6 +16,9 @@ use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
 use crate::error::Error;
 use crate::storage::{NormStore, StoredAction};
 
+/// Requests with at most this many readings are decided on the calling task (see `clarify`).
+const INLINE_READINGS: u128 = 16;
+
 pub struct Core {
     store: Arc<dyn NormStore>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
@@ -85,13 +88,21 @@ impl Core {
     /// its deadline counts from here.
     pub async fn clarify(&self, input: ClarifyInput) -> Result<Decision, Error> {
         let deadline = Instant::now() + input.deadline;
+        let small = input.at_most_readings() <= INLINE_READINGS;
         let (norms, library) = self.knowledge().await?;
-        let decision = tokio::task::spawn_blocking(move || {
+        let decide = move || {
             let expired = || Instant::now() >= deadline;
             clarify(&input.request, &input.scene, &norms, &library, &expired)
-        })
-        .await
-        .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??;
+        };
+        // A small request (most are) is decided in microseconds: handing it to another thread
+        // would cost more than the decision. Large ones go to the blocking pool.
+        let decision = if small {
+            decide()?
+        } else {
+            tokio::task::spawn_blocking(decide)
+                .await
+                .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??
+        };
         Ok(decision)
     }
 
