@@ -26,7 +26,8 @@ pub const DEFAULT_MAX_SPOKEN: usize = 5;
 pub const DEFAULT_MAX_READINGS: usize = 10_000;
 /// How many of the likeliest readings are named when there are too many to name them all.
 pub const FEW: usize = 3;
-/// From this many readings on, simulation runs on rayon's pool (measured: see BENCHMARKS.md).
+/// From this many readings on, simulation runs on rayon's pool: a reading costs about 8 µs
+/// (BENCHMARKS.md), so 64 of them outweigh the tens of µs that splitting work across threads costs.
 pub const PARALLEL_FROM: usize = 64;
 /// Readings simulated between two looks at the deadline when running in parallel.
 const PARALLEL_BATCH: usize = 512;

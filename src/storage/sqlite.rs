@@ -63,10 +63,20 @@ impl SqliteStore {
     }
 }
 
-async fn bump(tx: &mut Transaction<'static, Sqlite>) -> Result<(), StoreError> {
-    sqlx::query("UPDATE norm_set SET version = version + 1 WHERE id = 1")
-        .execute(&mut **tx)
-        .await?;
+/// Which set's version a write moves.
+#[derive(Clone, Copy)]
+enum Set {
+    Norms,
+    Actions,
+}
+
+/// Moves a set's version inside the write's own transaction, so readers see both or neither.
+async fn bump(tx: &mut Transaction<'static, Sqlite>, set: Set) -> Result<(), StoreError> {
+    let sql = match set {
+        Set::Norms => "UPDATE norm_set SET version = version + 1 WHERE id = 1",
+        Set::Actions => "UPDATE action_set SET version = version + 1 WHERE id = 1",
+    };
+    sqlx::query(sql).execute(&mut **tx).await?;
     Ok(())
 }
 
@@ -158,7 +168,7 @@ impl NormStore for SqliteStore {
         .bind(to_json(&spec.exempt_roles)?)
         .fetch_one(&mut *tx)
         .await?;
-        bump(&mut tx).await?;
+        bump(&mut tx, Set::Norms).await?;
         tx.commit().await?;
         Ok(Norm { id, spec: spec.clone() })
     }
@@ -184,7 +194,7 @@ impl NormStore for SqliteStore {
             .rows_affected()
             > 0;
         if deleted {
-            bump(&mut tx).await?;
+            bump(&mut tx, Set::Norms).await?;
         }
         tx.commit().await?;
         Ok(deleted)
@@ -237,9 +247,7 @@ impl NormStore for SqliteStore {
         .bind(text)
         .execute(&mut *tx)
         .await?;
-        sqlx::query("UPDATE action_set SET version = version + 1 WHERE id = 1")
-            .execute(&mut *tx)
-            .await?;
+        bump(&mut tx, Set::Actions).await?;
         tx.commit().await?;
         Ok(Ok(created))
     }
@@ -253,9 +261,7 @@ impl NormStore for SqliteStore {
             .rows_affected()
             > 0;
         if deleted {
-            sqlx::query("UPDATE action_set SET version = version + 1 WHERE id = 1")
-                .execute(&mut *tx)
-                .await?;
+            bump(&mut tx, Set::Actions).await?;
         }
         tx.commit().await?;
         Ok(deleted)
