@@ -46,36 +46,29 @@ async fn every_paper_case_gives_the_papers_decision_goal_and_words() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The OpenAPI document's example of `/v1/clarify` is the paper's "Get the vase.": the server
+/// must answer its example request with exactly its example response, every field.
 #[tokio::test]
-async fn get_the_vase_carries_every_reading_with_reasons_plan_and_norm_version() {
+async fn the_documented_vase_example_is_what_the_server_answers() {
     let app = spawn_app().await;
-    let demo = paper_demo();
-    let mut ids = Vec::new();
-    for norm in demo["norms"].as_array().unwrap() {
-        ids.push(app.add_norm(norm).await);
+    for norm in paper_demo()["norms"].as_array().unwrap() {
+        app.add_norm(norm).await;
     }
-    let answer = app.clarify(&crate::helpers::get_vase()).await;
-    assert_eq!(
-        answer,
-        json!({
-            "decision": "assume",
-            "utterance": "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
-            "speech_act": "assume(self,mean(human,did(self,get(object4))))",
-            "goal": "did(self,get(object4))",
-            "interpretations": [
-                {"action": "did(self,get(object3))", "description": "the fragile vase", "permissible": false,
-                 "feasible": true, "reasons": [{"kind": "forbidden_state", "detail": "did(self,get(object3))",
-                 "norm_id": ids[1], "severity": 3, "words": "it requires a forbidden state"}],
-                 "plan": ["get(object3)"], "score": 1.0},
-                {"action": "did(self,get(object4))", "description": "the plastic vase", "permissible": true,
-                 "feasible": true, "reasons": [], "plan": ["get(object4)"], "score": 1.0}
-            ],
-            "offered": ["did(self,get(object4))"],
-            "norm_version": 3,
-            "library_version": 1,
-            "text": "Get the vase."
-        })
-    );
+    let doc: Value = serde_json::from_str(
+        &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/openapi/openapi.json")).unwrap(),
+    )
+    .unwrap();
+    let operation = &doc["paths"]["/v1/clarify"]["post"];
+    let request = &operation["requestBody"]["content"]["application/json"]["example"];
+    let expected = &operation["responses"]["200"]["content"]["application/json"]["example"];
+    let answer = app.clarify(request).await;
+    assert_eq!(&answer, expected);
+    // The parts the paper fixes, spelled out.
+    assert_eq!(answer["decision"], "assume");
+    assert_eq!(answer["goal"], "did(self,get(object4))");
+    assert_eq!(answer["interpretations"][0]["reasons"][0]["norm_id"], 2);
+    assert_eq!(answer["interpretations"][1]["reasons"], json!([]));
+    assert_eq!(answer["interpretations"][1]["plan"], json!(["get(object4)"]));
 }
 
 #[tokio::test]

@@ -63,7 +63,8 @@ pub fn vase_request() -> Value {
     })
 }
 
-/// The answer to [`vase_request`] under the paper's norms.
+/// The answer to [`vase_request`] under the paper's norms, installed in order on a fresh store
+/// (`tests/api/paper_demo.rs` checks the server gives exactly this).
 pub fn vase_response() -> Value {
     json!({
         "decision": "assume",
@@ -72,12 +73,15 @@ pub fn vase_response() -> Value {
         "goal": "did(self,get(object4))",
         "interpretations": [
             {"action": "did(self,get(object3))", "description": "the fragile vase", "permissible": false, "feasible": true,
-             "reasons": [{"kind": "forbidden_state", "detail": "did(self,get(object3))", "norm_id": 2, "severity": 3}],
+             "reasons": [{"kind": "forbidden_state", "detail": "did(self,get(object3))", "norm_id": 2, "severity": 3,
+                          "words": "it requires a forbidden state"}],
              "plan": ["get(object3)"], "score": 1.0},
             {"action": "did(self,get(object4))", "description": "the plastic vase", "permissible": true, "feasible": true,
              "reasons": [], "plan": ["get(object4)"], "score": 1.0}
         ],
+        "offered": ["did(self,get(object4))"],
         "norm_version": 3,
+        "library_version": 1,
         "text": "Get the vase."
     })
 }
