@@ -15,7 +15,7 @@ use crate::engine::clarify::{
     Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
     Reference, Request, SinglePermissible, Strategy,
 };
-use crate::engine::norms::{Norm, NormInput, NormKind};
+use crate::engine::norms::{Norm, NormInput, NormKind, validate_roles};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
 use crate::engine::simulate::Reason;
 use crate::engine::speech::Style;
@@ -416,22 +416,7 @@ fn ranged(field: &str, value: Option<u64>, range: std::ops::RangeInclusive<u64>,
 }
 
 fn roles_of(roles: Option<Vec<String>>) -> Result<Vec<String>, Error> {
-    let roles = roles.unwrap_or_default();
-    if roles.len() > 16 {
-        return Err(Error::invalid("/speaker_roles", "at most 16 roles"));
-    }
-    for (i, role) in roles.iter().enumerate() {
-        if role.is_empty()
-            || role.len() > MAX_NAME_LEN
-            || !role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        {
-            return Err(Error::invalid(
-                format!("/speaker_roles/{i}"),
-                format!("`{role}` is not a role name (letters, digits, `_`, `-`)"),
-            ));
-        }
-    }
-    Ok(roles)
+    validate_roles("/speaker_roles", roles).map_err(|e| Error::invalid(e.field, e.message))
 }
 
 impl AnswerBody {

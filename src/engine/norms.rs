@@ -211,8 +211,9 @@ impl NormInput {
 
 pub const MAX_ROLES: usize = 16;
 
-/// Role names are short words: letters, digits, `_`, `-`.
-fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, NormError> {
+/// Role names are short words: letters, digits, `_`, `-`; at most [`MAX_ROLES`] of them. Used
+/// for a norm's roles and for a request's speaker roles alike.
+pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, NormError> {
     let roles = roles.unwrap_or_default();
     if roles.len() > MAX_ROLES {
         return Err(norm_error(field, format!("at most {MAX_ROLES} roles")));
