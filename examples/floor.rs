@@ -1,12 +1,32 @@
-//! The load benchmark's floor (bench-only, not part of the product): a minimal axum server that
-//! decodes the same clarify request type and encodes the same response type as Scruple, with no
-//! engine, no store and no validation. `scripts/bench-load.sh` measures Scruple against it.
+//! The load benchmark's floor (bench-only, not part of the product): a minimal server on one
+//! port that decodes the same clarify request types and encodes the same response types as
+//! Scruple (REST JSON and gRPC protobuf), with no engine, no store and no validation.
+//! `scripts/bench-load.sh` measures Scruple against it.
 //!
 //! Usage: `cargo run --release --example floor -- 127.0.0.1:0` (prints `listening on ADDR`).
 
 use axum::routing::post;
 use axum::{Json, Router};
 use scruple::api::{ClarifyBody, DecisionDto, InterpretationDto, ReasonDto};
+use scruple::transport::grpc::pb;
+use scruple::transport::grpc::pb::clarifier_server::{Clarifier, ClarifierServer};
+use tonic::{Request, Response, Status};
+
+/// Answers every Clarify with the same decision, after decoding the request.
+struct Floor(DecisionDto);
+
+#[tonic::async_trait]
+impl Clarifier for Floor {
+    async fn clarify(&self, request: Request<pb::ClarifyRequest>) -> Result<Response<pb::ClarifyResponse>, Status> {
+        let mut answer = self.0.clone();
+        answer.text = request.into_inner().directive.and_then(|d| d.text);
+        Ok(Response::new(answer.into()))
+    }
+
+    async fn check(&self, _: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {
+        Err(Status::unimplemented("the floor measures Clarify only"))
+    }
+}
 
 /// The answer to the paper's "Get the vase.", built once; every request gets a copy of it.
 fn answer() -> DecisionDto {
@@ -47,7 +67,8 @@ fn answer() -> DecisionDto {
 async fn main() {
     let addr = std::env::args().nth(1).unwrap_or_else(|| "127.0.0.1:0".to_owned());
     let answer = answer();
-    let app = Router::new().route(
+    let grpc = tonic::service::Routes::new(ClarifierServer::new(Floor(answer.clone()))).into_axum_router();
+    let app = Router::new().merge(grpc).route(
         "/v1/clarify",
         post(move |Json(body): Json<ClarifyBody>| {
             let mut answer = answer.clone();

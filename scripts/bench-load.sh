@@ -77,17 +77,24 @@ for c in 1 16 64; do
   ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
   echo "| REST (wrk) | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
 done
-for c in 1 16 64; do
-  h2load -D "$seconds" -c "$c" -m 1 -H 'content-type: application/grpc' -H 'te: trailers' \
-    -d "$work/body.grpc" "http://$scruple/scruple.v1.Clarifier/Clarify" >"$work/h2.txt"
-  python3 - "$work/h2.txt" "$c" <<'PY'
+h2_run() { # addr, concurrency -> "rps p50 p99 failed"
+  h2load -D "$seconds" -c "$2" -m 1 -H 'content-type: application/grpc' -H 'te: trailers' \
+    --log-file "$work/h2.log" -d "$work/body.grpc" "http://$1/scruple.v1.Clarifier/Clarify" >"$work/h2.txt"
+  python3 - "$work/h2.txt" "$work/h2.log" <<'PY'
 import re, sys
-text = open(sys.argv[1]).read(); c = sys.argv[2]
+text = open(sys.argv[1]).read()
 rps = float(re.search(r"finished in [\d.]+\w+, ([\d.]+) req/s", text).group(1))
-mean = re.search(r"time for request:\s+\S+\s+\S+\s+(\S+)", text).group(1)
-failed = re.search(r"(\d+) failed", text).group(1)
-print(f"| gRPC (h2load) | {c} | {rps:.0f} | n/a | n/a | mean {mean} | | | {failed} |")
+failed = int(re.search(r"(\d+) failed", text).group(1))
+durations = sorted(int(line.split("\t")[2]) for line in open(sys.argv[2]) if line.strip())
+pick = lambda q: durations[min(len(durations) - 1, int(q * len(durations)))] / 1000
+print(f"{rps:.0f} {pick(0.50):.2f} {pick(0.99):.2f} {failed}")
 PY
+}
+for c in 1 16 64; do
+  read -r s_rps s_p50 s_p99 s_err <<<"$(h2_run "$scruple" "$c")"
+  read -r f_rps _ f_p99 f_err <<<"$(h2_run "$floor" "$c")"
+  ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
+  echo "| gRPC (h2load) | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
 done
 peak=$(sort -n "$work/rss.$(cat "$work/scruple.pid")" | tail -1)
 echo
