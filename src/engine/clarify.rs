@@ -335,9 +335,12 @@ impl Template<'_> {
     }
 }
 
-/// The common type of some objects, spoken; "one" when they differ.
-fn common_noun<'a>(scene: &Scene, ids: impl Iterator<Item = &'a str>) -> String {
-    let mut kinds = ids.filter_map(|id| scene.object(id)).map(|o| o.kind.as_str());
+/// The common type of a slot's candidate objects, spoken; "one" when they differ.
+fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
+    let mut kinds = candidates
+        .iter()
+        .filter_map(|(t, _)| t.name().and_then(|id| scene.object(id)))
+        .map(|o| o.kind.as_str());
     match kinds.next() {
         Some(first) if kinds.all(|k| k == first) => spoken(first),
         _ => "one".to_owned(),
@@ -356,9 +359,7 @@ fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot
                         .filter(|o| reference.matches(o))
                         .map(|o| (Term::constant(&o.id), 1.0))
                         .collect();
-                    let noun = reference.noun().unwrap_or_else(|| {
-                        common_noun(scene, candidates.iter().filter_map(|(t, _)| t.name().map(|n| &**n)))
-                    });
+                    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
                     Slot {
                         candidates,
                         words: reference.words(scene),
@@ -383,7 +384,7 @@ fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot
                         .filter(|c| scene.object(&c.id).is_some())
                         .map(|c| (Term::constant(&c.id), c.score))
                         .collect();
-                    let noun = common_noun(scene, candidates.iter().filter_map(|(t, _)| t.name().map(|n| &**n)));
+                    let noun = common_noun(scene, &candidates);
                     Slot {
                         candidates,
                         words: variable.to_string(),
