@@ -71,12 +71,6 @@ PY
 
 echo "| transport | concurrency | Scruple req/s | floor req/s | ratio | Scruple p50 ms | Scruple p99 ms | floor p99 ms | errors |"
 echo "|---|---|---|---|---|---|---|---|---|"
-for c in 1 16 64; do
-  read -r s_rps s_p50 s_p99 s_err <<<"$(wrk_run "$scruple" "$c")"
-  read -r f_rps _ f_p99 f_err <<<"$(wrk_run "$floor" "$c")"
-  ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
-  echo "| REST (wrk) | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
-done
 h2_run() { # addr, concurrency -> "rps p50 p99 failed"
   h2load -D "$seconds" -c "$2" -m 1 -H 'content-type: application/grpc' -H 'te: trailers' \
     --log-file "$work/h2.log" -d "$work/body.grpc" "http://$1/scruple.v1.Clarifier/Clarify" >"$work/h2.txt"
@@ -90,12 +84,16 @@ pick = lambda q: durations[min(len(durations) - 1, int(q * len(durations)))] / 1
 print(f"{rps:.0f} {pick(0.50):.2f} {pick(0.99):.2f} {failed}")
 PY
 }
-for c in 1 16 64; do
-  read -r s_rps s_p50 s_p99 s_err <<<"$(h2_run "$scruple" "$c")"
-  read -r f_rps _ f_p99 f_err <<<"$(h2_run "$floor" "$c")"
-  ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
-  echo "| gRPC (h2load) | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
-done
+compare() { # label, runner: one table row per concurrency, Scruple beside the floor
+  for c in 1 16 64; do
+    read -r s_rps s_p50 s_p99 s_err <<<"$("$2" "$scruple" "$c")"
+    read -r f_rps _ f_p99 f_err <<<"$("$2" "$floor" "$c")"
+    ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
+    echo "| $1 | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
+  done
+}
+compare "REST (wrk)" wrk_run
+compare "gRPC (h2load)" h2_run
 peak=$(sort -n "$work/rss.$(cat "$work/scruple.pid")" | tail -1)
 echo
 echo "Scruple peak RSS under load: $((peak / 1024)) MiB ($peak KiB)."
