@@ -33,6 +33,7 @@ fn compile(norms: &[Value]) -> CompiledNorms {
             let body: scruple::api::NormBody = serde_json::from_value(n.clone()).unwrap();
             Norm {
                 id: i as i64 + 1,
+                revision: 0,
                 spec: body.into_input().validate().unwrap(),
             }
         })

@@ -19,7 +19,7 @@ use crate::engine::norms::{Norm, NormInput, NormKind, validate_roles};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
 use crate::engine::simulate::Reason;
 use crate::engine::speech::Style;
-use crate::engine::term::{Sym, Term, is_constant_name};
+use crate::engine::term::{Sym, Term, TermLimits, is_constant_name};
 use crate::error::Error;
 
 /// Escapes a key for use as one JSON Pointer segment (RFC 6901).
@@ -92,6 +92,11 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NormBody {
+    /// Kept by an import (a restored backup keeps its ids); refused on create, and on replace
+    /// it must be the id in the path. Ids are otherwise assigned by the service.
+    pub id: Option<i64>,
+    /// Informational (an exported or fetched norm carries it); preconditions go in `If-Match`.
+    pub revision: Option<i64>,
     pub kind: Option<String>,
     pub action: Option<String>,
     pub state: Option<String>,
@@ -106,6 +111,30 @@ pub struct NormBody {
 }
 
 impl NormBody {
+    /// For a create: the service assigns the id.
+    pub fn for_create(self) -> Result<NormInput, Error> {
+        if self.id.is_some() {
+            return Err(Error::invalid(
+                "/id",
+                "ids are assigned by the service; replace a norm with PUT /v1/norms/{id}",
+            ));
+        }
+        Ok(self.into_input())
+    }
+
+    /// For a replace of norm `id`: an id in the body must be that one.
+    pub fn for_replace(self, id: i64) -> Result<NormInput, Error> {
+        if let Some(given) = self.id
+            && given != id
+        {
+            return Err(Error::invalid(
+                "/id",
+                format!("the body names norm {given} but the request replaces norm {id}"),
+            ));
+        }
+        Ok(self.into_input())
+    }
+
     pub fn into_input(self) -> NormInput {
         NormInput {
             kind: self.kind,
@@ -125,6 +154,9 @@ impl NormBody {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct NormDto {
     pub id: i64,
+    /// The norm-set version at which this norm last changed; its ETag is this number quoted.
+    /// Send it back in `If-Match` to replace or delete it only if nobody has changed it since.
+    pub revision: i64,
     pub kind: String,
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub action: Option<String>,
@@ -151,6 +183,7 @@ impl From<&Norm> for NormDto {
         };
         NormDto {
             id: norm.id,
+            revision: norm.revision,
             kind: norm.spec.kind.as_str().to_owned(),
             action,
             state,
@@ -163,6 +196,79 @@ impl From<&Norm> for NormDto {
         }
     }
 }
+
+/// The whole norm set, as exported for backups and review, with the version it makes up (its
+/// ETag is this number quoted).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct NormSetDto {
+    pub version: i64,
+    pub norms: Vec<NormDto>,
+}
+
+/// A whole norm set to import: exactly what an export gives (its `version` is informational;
+/// the precondition goes in `If-Match`). Every norm is validated before anything is replaced.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NormSetBody {
+    pub version: Option<i64>,
+    pub norms: Vec<NormBody>,
+}
+
+/// One change to norms or verbs.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct AuditEntryDto {
+    /// Ascending in commit order; page with `?after=`.
+    pub id: i64,
+    /// When it committed: RFC 3339, UTC.
+    pub at: String,
+    /// The label of the token that made it (`admin` for `--admin-token`, `anonymous` when no
+    /// token is configured).
+    pub actor: String,
+    /// `norm`, `action` or `norm_set`.
+    pub subject: String,
+    /// `create`, `replace`, `delete` or `import`.
+    pub operation: String,
+    /// The norm id or verb name; absent for a whole-set import.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub target: Option<String>,
+    /// The norm or verb before (absent for a create), as the API shows it; for an import, the
+    /// whole set as a list.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub before: Option<serde_json::Value>,
+    /// After (absent for a delete).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub after: Option<serde_json::Value>,
+    /// The version of the norm set (or action library) once the change committed.
+    pub version: i64,
+}
+
+impl From<crate::storage::AuditEntry> for AuditEntryDto {
+    fn from(e: crate::storage::AuditEntry) -> Self {
+        AuditEntryDto {
+            id: e.id,
+            at: e.at,
+            actor: e.actor,
+            subject: e.subject,
+            operation: e.operation,
+            target: e.target,
+            before: e.before,
+            after: e.after,
+            version: e.version,
+        }
+    }
+}
+
+/// A page of the audit trail.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct AuditPageDto {
+    pub entries: Vec<AuditEntryDto>,
+    /// Pass as `after` for the next page (the last id here, or the `after` asked for).
+    pub next_after: i64,
+}
+
+/// Default and largest page of the audit trail.
+pub const DEFAULT_AUDIT_PAGE: i64 = 100;
+pub const MAX_AUDIT_PAGE: i64 = 1_000;
 
 // ---------------------------------------------------------------------------------------------
 // Clarify: request
@@ -386,6 +492,40 @@ pub struct ClarifyInput {
 }
 
 pub const DEFAULT_DEADLINE_MS: u64 = 2_000;
+/// Default for `--max-objects`.
+pub const DEFAULT_MAX_OBJECTS: usize = 10_000;
+/// Default for `--max-deadline-ms`: the longest `options.deadline_ms` a request may ask for.
+pub const DEFAULT_MAX_DEADLINE_MS: u64 = 60_000;
+
+/// What the operator lets one clarify or check request ask of the service. Going over a limit is
+/// a 422 naming the field and the limit; it never reaches the engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RequestLimits {
+    /// Most objects in one scene.
+    pub max_objects: usize,
+    /// Nesting depth and length of each term in a request (logical forms, facts, steps).
+    pub terms: TermLimits,
+    /// The decision deadline when a request names none, milliseconds.
+    pub default_deadline_ms: u64,
+    /// The longest deadline a request may ask for, milliseconds.
+    pub max_deadline_ms: u64,
+}
+
+impl Default for RequestLimits {
+    fn default() -> Self {
+        RequestLimits {
+            max_objects: DEFAULT_MAX_OBJECTS,
+            terms: TermLimits::DEFAULT,
+            default_deadline_ms: DEFAULT_DEADLINE_MS,
+            max_deadline_ms: DEFAULT_MAX_DEADLINE_MS,
+        }
+    }
+}
+
+/// A term from a request, parsed within the operator's limits.
+fn request_term(field: &str, text: &str, limits: &RequestLimits) -> Result<Term, Error> {
+    Term::parse_within(text, limits.terms).map_err(|e| Error::invalid(field, format!("not a term: {e}")))
+}
 
 impl ClarifyInput {
     /// An upper bound on the readings this request can have, from its arguments' possible
@@ -490,7 +630,17 @@ fn context_of(context: Option<String>) -> Result<String, Error> {
 }
 
 impl SceneBody {
-    fn into_scene(self) -> Result<Scene, Error> {
+    fn into_scene(self, limits: &RequestLimits) -> Result<Scene, Error> {
+        if self.objects.len() > limits.max_objects {
+            return Err(Error::invalid(
+                "/scene/objects",
+                format!(
+                    "{} objects is over the limit of {} per scene (--max-objects)",
+                    self.objects.len(),
+                    limits.max_objects
+                ),
+            ));
+        }
         let agent_id = self.agent.id.unwrap_or_else(|| "self".to_owned());
         constant("/scene/agent/id", &agent_id, "the agent id")?;
         finite("/scene/agent/position", &self.agent.position)?;
@@ -588,7 +738,7 @@ impl SceneBody {
         let mut facts = Vec::with_capacity(self.facts.len());
         for (k, text) in self.facts.iter().enumerate() {
             let field = format!("/scene/facts/{k}");
-            let fact = Term::parse(text).map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
+            let fact = request_term(&field, text, limits)?;
             if !fact.is_ground() || fact.is_var() {
                 return Err(Error::invalid(field, "a scene fact must be ground (no variables)"));
             }
@@ -678,7 +828,7 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
 }
 
 impl DirectiveBody {
-    fn into_directive(self, scene: &Scene) -> Result<(Directive, Option<Sym>), Error> {
+    fn into_directive(self, scene: &Scene, limits: &RequestLimits) -> Result<(Directive, Option<Sym>), Error> {
         match (self.action, self.form) {
             (Some(_), Some(_)) => Err(Error::invalid("/directive", "give either `action` or `form`, not both")),
             (None, None) => Err(Error::invalid(
@@ -709,8 +859,7 @@ impl DirectiveBody {
                         "`arguments` go with `action`, not with `form`",
                     ));
                 }
-                let form =
-                    Term::parse(&text).map_err(|e| Error::invalid("/directive/form", format!("not a term: {e}")))?;
+                let form = request_term("/directive/form", &text, limits)?;
                 let (speaker, action) =
                     unwrap_form(&form, &scene.agent.id).map_err(|m| Error::invalid("/directive/form", m))?;
                 let variables = action.variables();
@@ -765,13 +914,21 @@ impl DirectiveBody {
 impl TryFrom<ClarifyBody> for ClarifyInput {
     type Error = Error;
 
+    /// Under the default limits.
     fn try_from(body: ClarifyBody) -> Result<Self, Error> {
+        ClarifyInput::from_body(body, &RequestLimits::default())
+    }
+}
+
+impl ClarifyInput {
+    /// Validates a request within `limits`; the first fault is reported with its field.
+    pub fn from_body(body: ClarifyBody, limits: &RequestLimits) -> Result<Self, Error> {
         let speaker = body.speaker.unwrap_or_else(|| "human".to_owned());
         constant("/speaker", &speaker, "the speaker")?;
         let context = context_of(body.context)?;
-        let scene = body.scene.into_scene()?;
+        let scene = body.scene.into_scene(limits)?;
         let text = body.directive.text.clone();
-        let (directive, form_speaker) = body.directive.into_directive(&scene)?;
+        let (directive, form_speaker) = body.directive.into_directive(&scene, limits)?;
         let speaker_roles = roles_of(body.speaker_roles)?;
         let answer = body.answer.map(|a| a.into_answer(&scene)).transpose()?;
         let options = body.options.unwrap_or_default();
@@ -786,8 +943,8 @@ impl TryFrom<ClarifyBody> for ClarifyInput {
         let deadline_ms = ranged(
             "/options/deadline_ms",
             options.deadline_ms,
-            1..=60_000,
-            DEFAULT_DEADLINE_MS,
+            1..=limits.max_deadline_ms,
+            limits.default_deadline_ms,
         )?;
         let engine_options = Options {
             strategy: match options.strategy {
@@ -986,13 +1143,12 @@ pub struct CheckInput {
     pub style: Style,
 }
 
-impl TryFrom<CheckBody> for CheckInput {
-    type Error = Error;
-
-    fn try_from(body: CheckBody) -> Result<Self, Error> {
+impl CheckInput {
+    /// Validates a check request within `limits`.
+    pub fn from_body(body: CheckBody, limits: &RequestLimits) -> Result<Self, Error> {
         let context = context_of(body.context)?;
         let speaker_roles = roles_of(body.speaker_roles)?;
-        let scene = body.scene.into_scene()?;
+        let scene = body.scene.into_scene(limits)?;
         if body.steps.is_empty() || body.steps.len() > MAX_STEPS {
             return Err(Error::invalid("/steps", format!("give 1 to {MAX_STEPS} steps")));
         }
@@ -1002,7 +1158,7 @@ impl TryFrom<CheckBody> for CheckInput {
             .enumerate()
             .map(|(i, text)| {
                 let field = format!("/steps/{i}");
-                let step = Term::parse(text).map_err(|e| Error::invalid(&field, format!("not a term: {e}")))?;
+                let step = request_term(&field, text, limits)?;
                 if step.is_var() || !step.is_ground() {
                     return Err(Error::invalid(field, "a step is a ground action, such as get(object4)"));
                 }

@@ -12,9 +12,12 @@ use tokio::net::TcpListener;
 
 use tower_http::trace::TraceLayer;
 
+use crate::api::RequestLimits;
 use crate::core::Core;
 use crate::error::Error;
 use crate::storage::{SqliteStore, StoreError};
+use crate::transport::admission::{self, Admission, AdmissionConfig};
+use crate::transport::auth::{LabelledSecret, Tokens};
 use crate::transport::{AppState, grpc, rest};
 
 /// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
@@ -26,8 +29,41 @@ pub struct Config {
     pub listen: String,
     /// `sqlite://path` (created if missing) or `sqlite::memory:`.
     pub database_url: String,
-    pub admin_token: Option<String>,
+    /// Write token, labelled `admin` in the audit trail (`Debug` never shows it: see `auth`).
+    pub admin_token: Option<Secret>,
+    /// More write tokens, each with its label.
+    pub curator_tokens: Vec<LabelledSecret>,
+    /// Read-only tokens: once any is set, reading norms, verbs and the audit trail needs a token.
+    pub reader_tokens: Vec<LabelledSecret>,
     pub max_body_bytes: usize,
+    pub limits: RequestLimits,
+    pub admission: AdmissionConfig,
+}
+
+impl Config {
+    /// Every default, listening on `listen` with the store at `database_url`.
+    pub fn new(listen: impl Into<String>, database_url: impl Into<String>) -> Config {
+        Config {
+            listen: listen.into(),
+            database_url: database_url.into(),
+            admin_token: None,
+            curator_tokens: Vec::new(),
+            reader_tokens: Vec::new(),
+            max_body_bytes: DEFAULT_MAX_BODY_BYTES,
+            limits: RequestLimits::default(),
+            admission: AdmissionConfig::default(),
+        }
+    }
+}
+
+/// A secret whose `Debug` is redacted, so a logged configuration never carries it.
+#[derive(Clone, PartialEq, Eq)]
+pub struct Secret(pub String);
+
+impl std::fmt::Debug for Secret {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("<redacted>")
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -38,6 +74,8 @@ pub enum StartError {
     Store(#[from] StoreError),
     #[error("cannot set up gRPC: {0}")]
     Grpc(Error),
+    #[error("bad configuration: {0}")]
+    Config(String),
 }
 
 /// A service bound to its port, ready to run.
@@ -50,11 +88,21 @@ impl Application {
     /// Opens and migrates the store, then binds the port: once `build` returns, `/healthz` will
     /// answer 200.
     pub async fn build(config: Config) -> Result<Application, StartError> {
+        let tokens = Tokens::new(
+            config.admin_token.as_ref().map(|t| t.0.as_str()),
+            &config.curator_tokens,
+            &config.reader_tokens,
+        )
+        .map_err(StartError::Config)?;
+        if config.admission.max_concurrent == 0 {
+            return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
+        }
         let store = SqliteStore::open(&config.database_url).await?;
         let state = AppState {
             core: Arc::new(Core::new(Arc::new(store))),
-            admin_token: config.admin_token.filter(|t| !t.is_empty()).map(Arc::from),
+            tokens: Arc::new(tokens),
             max_body_bytes: config.max_body_bytes,
+            limits: config.limits,
         };
         let listener = TcpListener::bind(&config.listen)
             .await
@@ -64,7 +112,7 @@ impl Application {
             })?;
         Ok(Application {
             listener,
-            router: one_port(state).await?,
+            router: one_port(state, Admission::new(config.admission)).await?,
         })
     }
 
@@ -90,11 +138,13 @@ impl Application {
 /// REST and gRPC on one router. gRPC's routes bring a fallback that answers any path with
 /// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
-async fn one_port(state: AppState) -> Result<axum::Router, StartError> {
+/// Admission wraps everything but the trace layer, so a refused request is still traced.
+async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
     Ok(rest::router(state)
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
+        .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
         .layer(TraceLayer::new_for_http()))
 }

@@ -14,7 +14,7 @@ use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
 use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
 use crate::error::Error;
-use crate::storage::{NormStore, StoredAction};
+use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
 /// Requests with at most this many readings are decided on the calling task (see `clarify`).
 const INLINE_READINGS: u128 = 16;
@@ -121,25 +121,90 @@ impl Core {
     }
 
     /// Validates and stores a norm; nothing is written unless every field is valid.
-    pub async fn create_norm(&self, input: NormInput) -> Result<Norm, Error> {
+    pub async fn create_norm(&self, input: NormInput, actor: &str) -> Result<Norm, Error> {
         let spec = input.validate().map_err(|e| Error::invalid(e.field, e.message))?;
-        Ok(self.store.create(&spec).await?)
+        Ok(self.store.create(&spec, actor).await?)
     }
 
     pub async fn list_norms(&self) -> Result<Vec<Norm>, Error> {
-        Ok(self.store.list().await?)
+        Ok(self.store.load().await?.1)
     }
 
     pub async fn get_norm(&self, id: i64) -> Result<Norm, Error> {
         self.store.get(id).await?.ok_or_else(|| not_found(id))
     }
 
-    pub async fn delete_norm(&self, id: i64) -> Result<(), Error> {
-        if self.store.delete(id).await? {
-            Ok(())
-        } else {
-            Err(not_found(id))
+    /// Replaces a norm's content (its id stays) when `expected` is its revision, or always
+    /// without one; nothing is written unless every field is valid and the revision matches.
+    pub async fn replace_norm(
+        &self,
+        id: i64,
+        input: NormInput,
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<Norm, Error> {
+        let spec = input.validate().map_err(|e| Error::invalid(e.field, e.message))?;
+        written(id, expected, self.store.replace(id, &spec, expected, actor).await?)
+    }
+
+    pub async fn delete_norm(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<(), Error> {
+        written(id, expected, self.store.delete(id, expected, actor).await?)
+    }
+
+    /// The whole norm set and its version, for backups and review.
+    pub async fn export_norms(&self) -> Result<(i64, Vec<Norm>), Error> {
+        Ok(self.store.load().await?)
+    }
+
+    /// Replaces the whole norm set in one transaction when `expected` is the set's version (or
+    /// always without one). Every norm is validated first (errors point into `/norms/i`); ids
+    /// given are kept (a restored backup keeps its ids) and must be distinct and positive; norms
+    /// without one get fresh ids, never used before.
+    pub async fn import_norms(
+        &self,
+        inputs: Vec<(Option<i64>, NormInput)>,
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<(i64, Vec<Norm>), Error> {
+        let mut given: Vec<i64> = Vec::with_capacity(inputs.len());
+        for (i, (id, _)) in inputs.iter().enumerate() {
+            if let Some(id) = *id {
+                if id <= 0 {
+                    return Err(Error::invalid(
+                        format!("/norms/{i}/id"),
+                        "a norm id is a positive integer",
+                    ));
+                }
+                if given.contains(&id) {
+                    return Err(Error::invalid(
+                        format!("/norms/{i}/id"),
+                        format!("id {id} is given twice"),
+                    ));
+                }
+                given.push(id);
+            }
         }
+        let mut norms = Vec::with_capacity(inputs.len());
+        for (i, (id, input)) in inputs.into_iter().enumerate() {
+            let spec = input
+                .validate()
+                .map_err(|e| Error::invalid(format!("/norms/{i}{}", e.field), e.message))?;
+            norms.push((id, spec));
+        }
+        match self.store.import(&norms, expected, actor).await? {
+            Write::Done(set) => Ok(set),
+            Write::Missing => Err(Error::Internal("the norm set row is missing".to_owned())),
+            Write::Stale { current } => Err(Error::Stale {
+                what: "the norm set".to_owned(),
+                expected: expected.map_or_else(|| "*".to_owned(), |e| e.to_string()),
+                current,
+            }),
+        }
+    }
+
+    /// Up to `limit` audit entries after entry `after`, oldest first.
+    pub async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, Error> {
+        Ok(self.store.audit(after, limit).await?)
     }
 
     /// Every verb, by name, as written.
@@ -162,7 +227,7 @@ impl Core {
 
     /// Adds or replaces a verb; returns it as stored and whether it is new. Nothing is written
     /// unless the verb is valid and the library it makes has no loop through its steps.
-    pub async fn put_action(&self, name: &str, input: ActionInput) -> Result<(ActionInput, bool), Error> {
+    pub async fn put_action(&self, name: &str, input: ActionInput, actor: &str) -> Result<(ActionInput, bool), Error> {
         let def = input.validate(name).map_err(|e| Error::invalid(e.field, e.message))?;
         let written = def.to_input();
         let this = name.to_owned();
@@ -172,12 +237,12 @@ impl Core {
                 Error::invalid(field, format!("{}: {}", verb, e.message))
             })
         };
-        let created = self.store.put_action(name, &written, &accept).await??;
+        let created = self.store.put_action(name, &written, &accept, actor).await??;
         Ok((written, created))
     }
 
-    pub async fn delete_action(&self, name: &str) -> Result<(), Error> {
-        if self.store.delete_action(name).await? {
+    pub async fn delete_action(&self, name: &str, actor: &str) -> Result<(), Error> {
+        if self.store.delete_action(name, actor).await? {
             Ok(())
         } else {
             Err(Error::NotFound {
@@ -189,6 +254,19 @@ impl Core {
     /// Ready when the store answers.
     pub async fn ready(&self) -> Result<(), Error> {
         Ok(self.store.ping().await?)
+    }
+}
+
+/// How a conditional write on norm `id` ends for the caller.
+fn written<T>(id: i64, expected: Option<i64>, write: Write<T>) -> Result<T, Error> {
+    match write {
+        Write::Done(value) => Ok(value),
+        Write::Missing => Err(not_found(id)),
+        Write::Stale { current } => Err(Error::Stale {
+            what: format!("norm {id}"),
+            expected: expected.map_or_else(|| "*".to_owned(), |e| e.to_string()),
+            current,
+        }),
     }
 }
 

@@ -31,12 +31,23 @@ pub enum Error {
     MethodNotAllowed,
     #[error("the body is larger than the limit of {limit} bytes")]
     PayloadTooLarge { limit: usize },
-    /// A write without `Authorization: Bearer TOKEN` while an admin token is set.
-    #[error("this request changes norms and needs the admin token: send `Authorization: Bearer TOKEN`")]
+    /// No `Authorization: Bearer TOKEN` where tokens are configured and this request needs one.
+    #[error("this request needs a token: send `Authorization: Bearer TOKEN`")]
     Unauthenticated,
-    /// A write with a token that is not the admin token.
-    #[error("the token sent is not the admin token")]
-    Forbidden,
+    /// A token that is not configured, or one that may read but this request writes.
+    #[error("{0}")]
+    Forbidden(&'static str),
+    /// A conditional write (`If-Match`, `expected_revision`) whose revision is no longer current;
+    /// nothing was written.
+    #[error("{what} has changed since revision {expected}; it is now at revision {current}: read it again and retry")]
+    Stale {
+        what: String,
+        expected: String,
+        current: i64,
+    },
+    /// Every worker is busy and the queue is full or waited too long: retry after a moment.
+    #[error("the service is at its concurrency limit; retry after {retry_after_s} s")]
+    Overloaded { retry_after_s: u64 },
     /// The norm store cannot be read: decisions fail closed.
     #[error("the norms cannot be read, so no decision is made: {0}")]
     NormsUnavailable(String),
@@ -98,7 +109,19 @@ impl Error {
                 "unauthenticated",
                 "Unauthenticated",
             ),
-            Error::Forbidden => (StatusCode::FORBIDDEN, Code::PermissionDenied, "forbidden", "Forbidden"),
+            Error::Forbidden(_) => (StatusCode::FORBIDDEN, Code::PermissionDenied, "forbidden", "Forbidden"),
+            Error::Stale { .. } => (
+                StatusCode::PRECONDITION_FAILED,
+                Code::FailedPrecondition,
+                "stale-revision",
+                "Stale revision",
+            ),
+            Error::Overloaded { .. } => (
+                StatusCode::SERVICE_UNAVAILABLE,
+                Code::Unavailable,
+                "overloaded",
+                "Overloaded",
+            ),
             Error::NormsUnavailable(_) => (
                 StatusCode::SERVICE_UNAVAILABLE,
                 Code::Unavailable,
@@ -141,6 +164,15 @@ impl Error {
                 tracing::error!(error = %self, "request failed")
             }
             _ => tracing::debug!(error = %self, "request rejected"),
+        }
+    }
+
+    /// Seconds a client should wait before retrying, for failures that pass.
+    pub fn retry_after_s(&self) -> Option<u64> {
+        match self {
+            Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => Some(1),
+            Error::Overloaded { retry_after_s } => Some(*retry_after_s),
+            _ => None,
         }
     }
 
@@ -215,10 +247,10 @@ impl IntoResponse for Error {
                 .headers_mut()
                 .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
         }
-        if matches!(self, Error::NormsUnavailable(_) | Error::StoreUnavailable(_)) {
+        if let Some(seconds) = self.retry_after_s() {
             response
                 .headers_mut()
-                .insert(header::RETRY_AFTER, HeaderValue::from_static("1"));
+                .insert(header::RETRY_AFTER, HeaderValue::from(seconds));
         }
         response
     }
@@ -235,6 +267,9 @@ impl From<Error> for tonic::Status {
             None => error.public_detail(),
         };
         let mut status = tonic::Status::new(grpc, message);
+        if let Some(seconds) = error.retry_after_s() {
+            status.metadata_mut().insert("retry-after", seconds.into());
+        }
         if let Some(field) = error.field()
             && let Ok(value) = field.parse()
         {

@@ -3,8 +3,17 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
-use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES};
+use std::time::Duration;
+
+use clap::builder::TypedValueParser;
+use clap::{Args, Parser, Subcommand};
+use scruple::api::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
+use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
+use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
+use scruple::transport::admission::{
+    AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
+};
+use scruple::transport::auth::LabelledSecret;
 use tracing_subscriber::EnvFilter;
 
 #[derive(Parser)]
@@ -20,23 +29,105 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Serve REST on one port until SIGTERM or Ctrl-C.
-    Serve {
-        /// Address to listen on; port 0 picks a free port (printed as `listening on ADDR`).
-        #[arg(long, env = "SCRUPLE_LISTEN", default_value = "127.0.0.1:8080")]
-        listen: String,
-        /// Norm store; a SQLite file is created if missing and migrated at start.
-        #[arg(long, env = "SCRUPLE_DATABASE_URL", default_value = "sqlite://scruple.db")]
-        database_url: String,
-        /// When set, requests that change norms need `Authorization: Bearer TOKEN`.
-        #[arg(long, env = "SCRUPLE_ADMIN_TOKEN", hide_env_values = true)]
-        admin_token: Option<String>,
-        /// Largest request body accepted, in bytes; larger ones get 413.
-        #[arg(long, env = "SCRUPLE_MAX_BODY_BYTES", default_value_t = DEFAULT_MAX_BODY_BYTES)]
-        max_body_bytes: usize,
-    },
+    /// Serve REST and gRPC on one port until SIGTERM or Ctrl-C.
+    Serve(Box<ServeArgs>),
     /// Print the REST API's OpenAPI 3.1 document (as `openapi/openapi.json` holds it).
     Openapi,
+}
+
+/// Every flag has an environment variable; secrets are better passed that way (a command line
+/// shows in `ps`).
+#[derive(Args)]
+struct ServeArgs {
+    /// Address to listen on; port 0 picks a free port (printed as `listening on ADDR`).
+    #[arg(long, env = "SCRUPLE_LISTEN", default_value = "127.0.0.1:8080")]
+    listen: String,
+    /// Norm store; a SQLite file is created if missing and migrated at start.
+    #[arg(long, env = "SCRUPLE_DATABASE_URL", default_value = "sqlite://scruple.db")]
+    database_url: String,
+    /// When set, writes to norms and verbs need `Authorization: Bearer TOKEN` (audit label `admin`).
+    #[arg(long, env = "SCRUPLE_ADMIN_TOKEN", hide_env_values = true)]
+    admin_token: Option<String>,
+    /// More write tokens, as LABEL=SECRET (secret ≥ 16 bytes); the label names the writer in the
+    /// audit trail. Repeat the flag, or separate with commas in the variable.
+    #[arg(
+        long = "curator-token",
+        env = "SCRUPLE_CURATOR_TOKENS",
+        value_delimiter = ',',
+        hide_env_values = true
+    )]
+    curator_tokens: Vec<LabelledSecret>,
+    /// Read-only tokens, as LABEL=SECRET: once any is set, listing norms, verbs, the norm set and
+    /// the audit trail needs a token (clarify and check never do).
+    #[arg(
+        long = "reader-token",
+        env = "SCRUPLE_READER_TOKENS",
+        value_delimiter = ',',
+        hide_env_values = true
+    )]
+    reader_tokens: Vec<LabelledSecret>,
+    /// Largest request body (REST) or message (gRPC) accepted, in bytes; larger ones get 413.
+    #[arg(long, env = "SCRUPLE_MAX_BODY_BYTES", default_value_t = DEFAULT_MAX_BODY_BYTES)]
+    max_body_bytes: usize,
+    /// Most objects in one scene; more is a 422 at /scene/objects.
+    #[arg(long, env = "SCRUPLE_MAX_OBJECTS", default_value_t = DEFAULT_MAX_OBJECTS)]
+    max_objects: usize,
+    /// Deepest nesting of a term in a request (1..=128); deeper is a 422 naming the field.
+    #[arg(long, env = "SCRUPLE_MAX_TERM_DEPTH", default_value_t = MAX_DEPTH,
+          value_parser = clap::value_parser!(u16).range(1..=128).map(usize::from))]
+    max_term_depth: usize,
+    /// Longest term text in a request, bytes (16..=65536); longer is a 422 naming the field.
+    #[arg(long, env = "SCRUPLE_MAX_TERM_LENGTH", default_value_t = MAX_LEN,
+          value_parser = clap::value_parser!(u32).range(16..=65_536).map(|n| n as usize))]
+    max_term_length: usize,
+    /// Decision deadline when a request names none (`options.deadline_ms`), milliseconds.
+    #[arg(long, env = "SCRUPLE_DEADLINE_MS", default_value_t = DEFAULT_DEADLINE_MS)]
+    deadline_ms: u64,
+    /// Longest `options.deadline_ms` a request may ask for, milliseconds.
+    #[arg(long, env = "SCRUPLE_MAX_DEADLINE_MS", default_value_t = DEFAULT_MAX_DEADLINE_MS)]
+    max_deadline_ms: u64,
+    /// Requests worked on at once; the next ones queue.
+    #[arg(long, env = "SCRUPLE_MAX_CONCURRENT", default_value_t = DEFAULT_MAX_CONCURRENT)]
+    max_concurrent: usize,
+    /// Requests that may wait for a turn; beyond that, 503 with Retry-After at once.
+    #[arg(long, env = "SCRUPLE_MAX_QUEUED", default_value_t = DEFAULT_MAX_QUEUED)]
+    max_queued: usize,
+    /// Longest wait for a turn, milliseconds; then 503 with Retry-After.
+    #[arg(long, env = "SCRUPLE_QUEUE_TIMEOUT_MS", default_value_t = DEFAULT_QUEUE_TIMEOUT_MS)]
+    queue_timeout_ms: u64,
+}
+
+impl ServeArgs {
+    fn into_config(self) -> Result<Config, String> {
+        if !(1..=self.max_deadline_ms).contains(&self.deadline_ms) {
+            return Err(format!(
+                "--deadline-ms {} must be within 1..=--max-deadline-ms ({})",
+                self.deadline_ms, self.max_deadline_ms
+            ));
+        }
+        Ok(Config {
+            listen: self.listen,
+            database_url: self.database_url,
+            admin_token: self.admin_token.filter(|t| !t.is_empty()).map(Secret),
+            curator_tokens: self.curator_tokens,
+            reader_tokens: self.reader_tokens,
+            max_body_bytes: self.max_body_bytes,
+            limits: RequestLimits {
+                max_objects: self.max_objects,
+                terms: TermLimits {
+                    depth: self.max_term_depth,
+                    len: self.max_term_length,
+                },
+                default_deadline_ms: self.deadline_ms,
+                max_deadline_ms: self.max_deadline_ms,
+            },
+            admission: AdmissionConfig {
+                max_concurrent: self.max_concurrent,
+                max_queued: self.max_queued,
+                queue_timeout: Duration::from_millis(self.queue_timeout_ms),
+            },
+        })
+    }
 }
 
 async fn shutdown_signal() {
@@ -81,17 +172,13 @@ async fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
-        Command::Serve {
-            listen,
-            database_url,
-            admin_token,
-            max_body_bytes,
-        } => {
-            let config = Config {
-                listen,
-                database_url,
-                admin_token,
-                max_body_bytes,
+        Command::Serve(args) => {
+            let config = match args.into_config() {
+                Ok(config) => config,
+                Err(e) => {
+                    eprintln!("scruple: {e}");
+                    return ExitCode::from(2);
+                }
             };
             let app = match Application::build(config).await {
                 Ok(app) => app,

@@ -67,6 +67,9 @@ pub struct Scope<'a> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Norm {
     pub id: i64,
+    /// The norm-set version at which this norm last changed: its ETag, unique over the store's
+    /// history (0 for a norm that was never stored).
+    pub revision: i64,
     pub spec: NormSpec,
 }
 

@@ -10,10 +10,39 @@ use std::sync::Arc;
 /// A symbol: the name of a constant, a variable or a functor. Cheap to clone and to compare.
 pub type Sym = Arc<str>;
 
-/// Nesting deeper than this is refused by the parser, so that no input can exhaust the stack.
+/// Nesting deeper than this is refused by default, so that no input can exhaust the stack.
 pub const MAX_DEPTH: usize = 32;
-/// Longest term text the parser accepts, in bytes.
+/// Longest term text accepted by default, in bytes.
 pub const MAX_LEN: usize = 4096;
+
+/// How deep and how long a term may be. Norms, verbs and stored rows use the defaults; an
+/// operator may set other limits for requests, up to `CEILING`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TermLimits {
+    /// Most nesting levels: `a` is 1, `f(a)` is 2.
+    pub depth: usize,
+    /// Most bytes of text.
+    pub len: usize,
+}
+
+impl TermLimits {
+    pub const DEFAULT: TermLimits = TermLimits {
+        depth: MAX_DEPTH,
+        len: MAX_LEN,
+    };
+    /// The most any configuration may allow: deep enough for any real logical form, shallow
+    /// enough that parsing, printing and unifying stay far from the stack's end.
+    pub const CEILING: TermLimits = TermLimits {
+        depth: 128,
+        len: 65_536,
+    };
+}
+
+impl Default for TermLimits {
+    fn default() -> Self {
+        TermLimits::DEFAULT
+    }
+}
 
 /// A logical term. Constants and compounds are ground unless an argument holds a variable.
 #[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -39,15 +68,26 @@ impl Term {
         }
     }
 
-    /// Parses one term; see [`ParseError`] for what can go wrong.
+    /// Parses one term within the default limits; see [`ParseError`] for what can go wrong.
     pub fn parse(text: &str) -> Result<Term, ParseError> {
-        if text.len() > MAX_LEN {
+        Term::parse_within(text, TermLimits::DEFAULT)
+    }
+
+    /// Parses one term within `limits` (each capped at [`TermLimits::CEILING`]).
+    pub fn parse_within(text: &str, limits: TermLimits) -> Result<Term, ParseError> {
+        let max_len = limits.len.min(TermLimits::CEILING.len);
+        let max_depth = limits.depth.min(TermLimits::CEILING.depth);
+        if text.len() > max_len {
             return Err(ParseError {
-                position: MAX_LEN,
-                message: format!("term is longer than {MAX_LEN} bytes"),
+                position: max_len,
+                message: format!("term is longer than {max_len} bytes"),
             });
         }
-        let mut parser = Parser { text, pos: 0 };
+        let mut parser = Parser {
+            text,
+            pos: 0,
+            max_depth,
+        };
         parser.skip_space();
         let term = parser.term(0)?;
         parser.skip_space();
@@ -183,6 +223,7 @@ pub fn is_constant_name(text: &str) -> bool {
 struct Parser<'a> {
     text: &'a str,
     pos: usize,
+    max_depth: usize,
 }
 
 impl Parser<'_> {
@@ -220,8 +261,8 @@ impl Parser<'_> {
     }
 
     fn term(&mut self, depth: usize) -> Result<Term, ParseError> {
-        if depth >= MAX_DEPTH {
-            return Err(self.error(format!("terms may nest at most {MAX_DEPTH} deep")));
+        if depth >= self.max_depth {
+            return Err(self.error(format!("terms may nest at most {} deep", self.max_depth)));
         }
         let is_question_var = self.peek_char() == Some('?');
         if is_question_var {

@@ -189,6 +189,7 @@ fn norms(inputs: &[NormInput]) -> CompiledNorms {
         .enumerate()
         .map(|(i, input)| Norm {
             id: i as i64 + 1,
+            revision: 0,
             spec: input
                 .clone()
                 .validate()

@@ -37,19 +37,107 @@ pub type StoredAction = (String, ActionInput);
 /// closure's higher-ranked lifetime alone).
 pub type Accept = dyn Fn(&[StoredAction]) -> Result<(), crate::error::Error> + Send + Sync;
 
-/// Every write is one transaction that also bumps the version of the set it changes.
+/// How a conditional write on one norm ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Write<T> {
+    Done(T),
+    /// No norm has that id.
+    Missing,
+    /// The norm's revision is not the one the caller expected; nothing was written.
+    Stale {
+        current: i64,
+    },
+}
+
+/// What changed: the subject of an audit entry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Subject {
+    Norm,
+    Action,
+    NormSet,
+}
+
+impl Subject {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Subject::Norm => "norm",
+            Subject::Action => "action",
+            Subject::NormSet => "norm_set",
+        }
+    }
+}
+
+/// How it changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Operation {
+    Create,
+    Replace,
+    Delete,
+    Import,
+}
+
+impl Operation {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Operation::Create => "create",
+            Operation::Replace => "replace",
+            Operation::Delete => "delete",
+            Operation::Import => "import",
+        }
+    }
+}
+
+/// One change to norms or verbs, as the audit trail keeps it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AuditEntry {
+    /// Ascending in commit order; a reader pages with `after`.
+    pub id: i64,
+    /// RFC 3339, UTC, milliseconds.
+    pub at: String,
+    /// The label of the token that made the change (`anonymous` when no token is configured).
+    pub actor: String,
+    pub subject: String,
+    pub operation: String,
+    /// The norm id or verb name; none for a whole-set import.
+    pub target: Option<String>,
+    /// Canonical JSON before and after; `None` where there was nothing (a create's before).
+    pub before: Option<serde_json::Value>,
+    pub after: Option<serde_json::Value>,
+    /// The version of the changed set once the change committed.
+    pub version: i64,
+}
+
+/// Every write is one transaction that bumps the version of the set it changes and appends its
+/// audit entry: a write is all three or nothing.
 #[async_trait]
 pub trait NormStore: Send + Sync + 'static {
     /// The current norm-set and action-set versions: one cheap read, made before each decision.
     async fn versions(&self) -> Result<Versions, StoreError>;
-    /// Every norm and the version they make up, read in one snapshot.
+    /// Every norm and the version they make up, read in one snapshot, by ascending id.
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError>;
-    async fn create(&self, spec: &NormSpec) -> Result<Norm, StoreError>;
-    /// Every norm, by ascending id.
-    async fn list(&self) -> Result<Vec<Norm>, StoreError>;
+    async fn create(&self, spec: &NormSpec, actor: &str) -> Result<Norm, StoreError>;
     async fn get(&self, id: i64) -> Result<Option<Norm>, StoreError>;
-    /// Whether a norm with that id existed (and is now gone).
-    async fn delete(&self, id: i64) -> Result<bool, StoreError>;
+    /// Replaces a norm's content, keeping its id, when its revision is `expected` (or always,
+    /// with `None`).
+    async fn replace(
+        &self,
+        id: i64,
+        spec: &NormSpec,
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<Write<Norm>, StoreError>;
+    /// Removes a norm when its revision is `expected` (or always, with `None`).
+    async fn delete(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<Write<()>, StoreError>;
+    /// Replaces the whole norm set with `norms` (ids kept) in one transaction, when the set's
+    /// version is `expected` (or always, with `None`); returns the new set as `load` would.
+    async fn import(
+        &self,
+        norms: &[(Option<i64>, NormSpec)],
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<Write<(i64, Vec<Norm>)>, StoreError>;
+    /// Up to `limit` audit entries with ids above `after`, ascending.
+    async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError>;
     /// Whether the store is open, migrated and readable.
     async fn ping(&self) -> Result<(), StoreError>;
 
@@ -63,7 +151,8 @@ pub trait NormStore: Send + Sync + 'static {
         name: &str,
         definition: &ActionInput,
         accept: &Accept,
+        actor: &str,
     ) -> Result<Result<bool, crate::error::Error>, StoreError>;
     /// Whether a verb of that name existed (and is now gone).
-    async fn delete_action(&self, name: &str) -> Result<bool, StoreError>;
+    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError>;
 }

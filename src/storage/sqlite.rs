@@ -12,7 +12,8 @@ use sqlx::sqlite::{
 };
 use sqlx::{Row, Sqlite, Transaction};
 
-use super::{Accept, NormStore, StoreError, StoredAction, Versions};
+use super::{Accept, AuditEntry, NormStore, Operation, StoreError, StoredAction, Subject, Versions, Write};
+use crate::api::NormDto;
 use crate::engine::action::ActionInput;
 use crate::engine::norms::{Norm, NormKind, NormSpec};
 use crate::engine::term::Term;
@@ -20,7 +21,7 @@ use crate::engine::term::Term;
 /// The columns a norm is read from, as a literal so that queries stay static strings.
 macro_rules! norm_columns {
     () => {
-        "id, kind, term, when_json, context, severity, note, roles_json, exempt_roles_json"
+        "id, revision, kind, term, when_json, context, severity, note, roles_json, exempt_roles_json"
     };
 }
 
@@ -70,14 +71,98 @@ enum Set {
     Actions,
 }
 
-/// Moves a set's version inside the write's own transaction, so readers see both or neither.
-async fn bump(tx: &mut Transaction<'static, Sqlite>, set: Set) -> Result<(), StoreError> {
+/// Moves a set's version inside the write's own transaction, so readers see both or neither;
+/// returns the new version.
+async fn bump(tx: &mut Transaction<'static, Sqlite>, set: Set) -> Result<i64, StoreError> {
     let sql = match set {
-        Set::Norms => "UPDATE norm_set SET version = version + 1 WHERE id = 1",
-        Set::Actions => "UPDATE action_set SET version = version + 1 WHERE id = 1",
+        Set::Norms => "UPDATE norm_set SET version = version + 1 WHERE id = 1 RETURNING version",
+        Set::Actions => "UPDATE action_set SET version = version + 1 WHERE id = 1 RETURNING version",
     };
-    sqlx::query(sql).execute(&mut **tx).await?;
+    Ok(sqlx::query_scalar(sql).fetch_one(&mut **tx).await?)
+}
+
+/// What an audit entry records of one change; written by `audit` in the change's transaction.
+struct Change<'a> {
+    actor: &'a str,
+    subject: Subject,
+    operation: Operation,
+    target: Option<String>,
+    before: Option<serde_json::Value>,
+    after: Option<serde_json::Value>,
+    version: i64,
+}
+
+async fn record(tx: &mut Transaction<'static, Sqlite>, change: Change<'_>) -> Result<(), StoreError> {
+    let text = |v: Option<serde_json::Value>| v.map(|v| v.to_string());
+    sqlx::query(
+        "INSERT INTO audit (actor, subject, operation, target, before_json, after_json, version) \
+         VALUES (?, ?, ?, ?, ?, ?, ?)",
+    )
+    .bind(change.actor)
+    .bind(change.subject.as_str())
+    .bind(change.operation.as_str())
+    .bind(change.target)
+    .bind(text(change.before))
+    .bind(text(change.after))
+    .bind(change.version)
+    .execute(&mut **tx)
+    .await?;
     Ok(())
+}
+
+/// A norm as the audit trail and exports show it: the REST representation.
+fn norm_json(norm: &Norm) -> serde_json::Value {
+    serde_json::to_value(NormDto::from(norm)).unwrap_or(serde_json::Value::Null)
+}
+
+fn norms_json(norms: &[Norm]) -> serde_json::Value {
+    serde_json::Value::Array(norms.iter().map(norm_json).collect())
+}
+
+/// Writes a norm's content into row `id` (inserting or replacing) at `revision`.
+async fn upsert_norm(
+    tx: &mut Transaction<'static, Sqlite>,
+    id: Option<i64>,
+    spec: &NormSpec,
+    revision: i64,
+) -> Result<i64, StoreError> {
+    let when: Vec<String> = spec.when.iter().map(Term::to_string).collect();
+    let id: i64 = sqlx::query_scalar(
+        "INSERT INTO norms (id, revision, kind, term, when_json, context, severity, note, roles_json, exempt_roles_json) \
+         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) \
+         ON CONFLICT (id) DO UPDATE SET revision = excluded.revision, kind = excluded.kind, term = excluded.term, \
+         when_json = excluded.when_json, context = excluded.context, severity = excluded.severity, \
+         note = excluded.note, roles_json = excluded.roles_json, exempt_roles_json = excluded.exempt_roles_json \
+         RETURNING id",
+    )
+    .bind(id)
+    .bind(revision)
+    .bind(spec.kind.as_str())
+    .bind(spec.term.to_string())
+    .bind(to_json(&when)?)
+    .bind(spec.context.as_deref())
+    .bind(i64::from(spec.severity))
+    .bind(spec.note.as_deref())
+    .bind(to_json(&spec.roles)?)
+    .bind(to_json(&spec.exempt_roles)?)
+    .fetch_one(&mut **tx)
+    .await?;
+    Ok(id)
+}
+
+async fn norm_in(tx: &mut Transaction<'static, Sqlite>, id: i64) -> Result<Option<Norm>, StoreError> {
+    let row = sqlx::query(concat!("SELECT ", norm_columns!(), " FROM norms WHERE id = ?"))
+        .bind(id)
+        .fetch_optional(&mut **tx)
+        .await?;
+    row.as_ref().map(norm_from_row).transpose()
+}
+
+async fn all_norms(tx: &mut Transaction<'static, Sqlite>) -> Result<Vec<Norm>, StoreError> {
+    let rows = sqlx::query(concat!("SELECT ", norm_columns!(), " FROM norms ORDER BY id"))
+        .fetch_all(&mut **tx)
+        .await?;
+    rows.iter().map(norm_from_row).collect()
 }
 
 fn corrupt(id: i64, what: &str) -> StoreError {
@@ -112,6 +197,7 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
         .ok_or_else(|| corrupt(id, "severity out of range"))?;
     Ok(Norm {
         id,
+        revision: row.try_get("revision")?,
         spec: NormSpec {
             kind,
             term,
@@ -142,39 +228,32 @@ impl NormStore for SqliteStore {
         let version: i64 = sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
             .fetch_one(&mut *tx)
             .await?;
-        let rows = sqlx::query(concat!("SELECT ", norm_columns!(), " FROM norms ORDER BY id"))
-            .fetch_all(&mut *tx)
-            .await?;
+        let norms = all_norms(&mut tx).await?;
         tx.commit().await?;
-        let norms = rows.iter().map(norm_from_row).collect::<Result<_, _>>()?;
         Ok((version, norms))
     }
 
-    async fn create(&self, spec: &NormSpec) -> Result<Norm, StoreError> {
-        let when: Vec<String> = spec.when.iter().map(Term::to_string).collect();
-        let when_json = to_json(&when)?;
+    async fn create(&self, spec: &NormSpec, actor: &str) -> Result<Norm, StoreError> {
         let mut tx = self.write().await?;
-        let id: i64 = sqlx::query_scalar(
-            "INSERT INTO norms (kind, term, when_json, context, severity, note, roles_json, exempt_roles_json) \
-             VALUES (?, ?, ?, ?, ?, ?, ?, ?) RETURNING id",
-        )
-        .bind(spec.kind.as_str())
-        .bind(spec.term.to_string())
-        .bind(when_json)
-        .bind(spec.context.as_deref())
-        .bind(i64::from(spec.severity))
-        .bind(spec.note.as_deref())
-        .bind(to_json(&spec.roles)?)
-        .bind(to_json(&spec.exempt_roles)?)
-        .fetch_one(&mut *tx)
-        .await?;
-        bump(&mut tx, Set::Norms).await?;
+        let version = bump(&mut tx, Set::Norms).await?;
+        let id = upsert_norm(&mut tx, None, spec, version).await?;
+        let norm = Norm {
+            id,
+            revision: version,
+            spec: spec.clone(),
+        };
+        let change = Change {
+            actor,
+            subject: Subject::Norm,
+            operation: Operation::Create,
+            target: Some(id.to_string()),
+            before: None,
+            after: Some(norm_json(&norm)),
+            version,
+        };
+        record(&mut tx, change).await?;
         tx.commit().await?;
-        Ok(Norm { id, spec: spec.clone() })
-    }
-
-    async fn list(&self) -> Result<Vec<Norm>, StoreError> {
-        Ok(self.load().await?.1)
+        Ok(norm)
     }
 
     async fn get(&self, id: i64) -> Result<Option<Norm>, StoreError> {
@@ -185,19 +264,119 @@ impl NormStore for SqliteStore {
         row.as_ref().map(norm_from_row).transpose()
     }
 
-    async fn delete(&self, id: i64) -> Result<bool, StoreError> {
+    async fn replace(
+        &self,
+        id: i64,
+        spec: &NormSpec,
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<Write<Norm>, StoreError> {
+        // The write lock comes first, so the revision compared is the one replaced.
         let mut tx = self.write().await?;
-        let deleted = sqlx::query("DELETE FROM norms WHERE id = ?")
+        let Some(before) = norm_in(&mut tx, id).await? else {
+            return Ok(Write::Missing);
+        };
+        if expected.is_some_and(|e| e != before.revision) {
+            return Ok(Write::Stale {
+                current: before.revision,
+            });
+        }
+        let version = bump(&mut tx, Set::Norms).await?;
+        upsert_norm(&mut tx, Some(id), spec, version).await?;
+        let norm = Norm {
+            id,
+            revision: version,
+            spec: spec.clone(),
+        };
+        let change = Change {
+            actor,
+            subject: Subject::Norm,
+            operation: Operation::Replace,
+            target: Some(id.to_string()),
+            before: Some(norm_json(&before)),
+            after: Some(norm_json(&norm)),
+            version,
+        };
+        record(&mut tx, change).await?;
+        tx.commit().await?;
+        Ok(Write::Done(norm))
+    }
+
+    async fn delete(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<Write<()>, StoreError> {
+        let mut tx = self.write().await?;
+        let Some(before) = norm_in(&mut tx, id).await? else {
+            return Ok(Write::Missing);
+        };
+        if expected.is_some_and(|e| e != before.revision) {
+            return Ok(Write::Stale {
+                current: before.revision,
+            });
+        }
+        sqlx::query("DELETE FROM norms WHERE id = ?")
             .bind(id)
             .execute(&mut *tx)
-            .await?
-            .rows_affected()
-            > 0;
-        if deleted {
-            bump(&mut tx, Set::Norms).await?;
-        }
+            .await?;
+        let version = bump(&mut tx, Set::Norms).await?;
+        let change = Change {
+            actor,
+            subject: Subject::Norm,
+            operation: Operation::Delete,
+            target: Some(id.to_string()),
+            before: Some(norm_json(&before)),
+            after: None,
+            version,
+        };
+        record(&mut tx, change).await?;
         tx.commit().await?;
-        Ok(deleted)
+        Ok(Write::Done(()))
+    }
+
+    async fn import(
+        &self,
+        norms: &[(Option<i64>, NormSpec)],
+        expected: Option<i64>,
+        actor: &str,
+    ) -> Result<Write<(i64, Vec<Norm>)>, StoreError> {
+        let mut tx = self.write().await?;
+        let current: i64 = sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
+            .fetch_one(&mut *tx)
+            .await?;
+        if expected.is_some_and(|e| e != current) {
+            return Ok(Write::Stale { current });
+        }
+        let before = all_norms(&mut tx).await?;
+        sqlx::query("DELETE FROM norms").execute(&mut *tx).await?;
+        let version = bump(&mut tx, Set::Norms).await?;
+        // Given ids first: a fresh id is then above every one of them, and never collides.
+        let (given, fresh): (Vec<_>, Vec<_>) = norms.iter().partition(|(id, _)| id.is_some());
+        for (id, spec) in given.into_iter().chain(fresh) {
+            upsert_norm(&mut tx, *id, spec, version).await?;
+        }
+        let after = all_norms(&mut tx).await?;
+        let change = Change {
+            actor,
+            subject: Subject::NormSet,
+            operation: Operation::Import,
+            target: None,
+            before: Some(norms_json(&before)),
+            after: Some(norms_json(&after)),
+            version,
+        };
+        record(&mut tx, change).await?;
+        tx.commit().await?;
+        Ok(Write::Done((version, after)))
+    }
+
+    async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError> {
+        let rows = sqlx::query(
+            "SELECT id, at, actor, subject, operation, target, before_json, after_json, version \
+             FROM audit WHERE id > ? ORDER BY id LIMIT ?",
+        )
+        .bind(after)
+        .bind(limit)
+        .fetch_all(&self.pool)
+        .await?;
+        rows.iter().map(audit_from_row).collect()
     }
 
     async fn ping(&self) -> Result<(), StoreError> {
@@ -219,19 +398,17 @@ impl NormStore for SqliteStore {
         name: &str,
         definition: &ActionInput,
         accept: &Accept,
+        actor: &str,
     ) -> Result<Result<bool, crate::error::Error>, StoreError> {
         let text = serde_json::to_string(definition).map_err(|e| StoreError(e.to_string()))?;
         // The write lock is taken first, so the library `accept` judges is the one written to.
         let mut tx = self.write().await?;
         let mut all = read_actions(&mut tx).await?;
-        let created = match all.iter_mut().find(|(n, _)| n == name) {
-            Some(existing) => {
-                existing.1 = definition.clone();
-                false
-            }
+        let before = match all.iter_mut().find(|(n, _)| n == name) {
+            Some(existing) => Some(std::mem::replace(&mut existing.1, definition.clone())),
             None => {
                 all.push((name.to_owned(), definition.clone()));
-                true
+                None
             }
         };
         if let Err(refused) = accept(&all) {
@@ -247,25 +424,71 @@ impl NormStore for SqliteStore {
         .bind(text)
         .execute(&mut *tx)
         .await?;
-        bump(&mut tx, Set::Actions).await?;
+        let version = bump(&mut tx, Set::Actions).await?;
+        let created = before.is_none();
+        let change = Change {
+            actor,
+            subject: Subject::Action,
+            operation: if created { Operation::Create } else { Operation::Replace },
+            target: Some(name.to_owned()),
+            before: before.as_ref().map(action_json),
+            after: Some(action_json(definition)),
+            version,
+        };
+        record(&mut tx, change).await?;
         tx.commit().await?;
         Ok(Ok(created))
     }
 
-    async fn delete_action(&self, name: &str) -> Result<bool, StoreError> {
+    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError> {
         let mut tx = self.write().await?;
-        let deleted = sqlx::query("DELETE FROM actions WHERE name = ?")
+        let all = read_actions(&mut tx).await?;
+        let Some((_, before)) = all.iter().find(|(n, _)| n == name) else {
+            return Ok(false);
+        };
+        sqlx::query("DELETE FROM actions WHERE name = ?")
             .bind(name)
             .execute(&mut *tx)
-            .await?
-            .rows_affected()
-            > 0;
-        if deleted {
-            bump(&mut tx, Set::Actions).await?;
-        }
+            .await?;
+        let version = bump(&mut tx, Set::Actions).await?;
+        let change = Change {
+            actor,
+            subject: Subject::Action,
+            operation: Operation::Delete,
+            target: Some(name.to_owned()),
+            before: Some(action_json(before)),
+            after: None,
+            version,
+        };
+        record(&mut tx, change).await?;
         tx.commit().await?;
-        Ok(deleted)
+        Ok(true)
     }
+}
+
+fn action_json(definition: &ActionInput) -> serde_json::Value {
+    serde_json::to_value(definition).unwrap_or(serde_json::Value::Null)
+}
+
+fn audit_from_row(row: &SqliteRow) -> Result<AuditEntry, StoreError> {
+    let id: i64 = row.try_get("id")?;
+    let json = |column: &str| -> Result<Option<serde_json::Value>, StoreError> {
+        let text: Option<String> = row.try_get(column)?;
+        text.map(|t| serde_json::from_str(&t))
+            .transpose()
+            .map_err(|e| StoreError(format!("audit entry {id} is unreadable: {column}: {e}")))
+    };
+    Ok(AuditEntry {
+        id,
+        at: row.try_get("at")?,
+        actor: row.try_get("actor")?,
+        subject: row.try_get("subject")?,
+        operation: row.try_get("operation")?,
+        target: row.try_get("target")?,
+        before: json("before_json")?,
+        after: json("after_json")?,
+        version: row.try_get("version")?,
+    })
 }
 
 /// Every stored verb by name; a row that is not a verb's JSON is a store error (fail closed).

@@ -15,13 +15,13 @@ fn plate(i: usize) -> Value {
 }
 
 /// A scene of `cups` identical cups and `plates` identical plates, all within reach.
-fn kitchen(cups: usize, plates: usize) -> Value {
+pub(crate) fn kitchen(cups: usize, plates: usize) -> Value {
     let mut objects: Vec<Value> = (0..cups).map(cup).collect();
     objects.extend((0..plates).map(plate));
     json!({"agent": {"id": "self", "position": [0, 0, 0.75], "reach": 0.9}, "objects": objects})
 }
 
-fn request(action: &str, types: &[&str], scene: Value) -> Value {
+pub(crate) fn request(action: &str, types: &[&str], scene: Value) -> Value {
     let arguments: Vec<Value> = types.iter().map(|t| json!({"type": t})).collect();
     json!({"directive": {"action": action, "arguments": arguments}, "scene": scene})
 }

@@ -304,7 +304,13 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
         norms.create_norm(wrong).await.unwrap_err().code(),
         Code::PermissionDenied
     );
-    let status = norms.delete_norm(pb::DeleteNormRequest { id: 1 }).await.unwrap_err();
+    let status = norms
+        .delete_norm(pb::DeleteNormRequest {
+            id: 1,
+            expected_revision: None,
+        })
+        .await
+        .unwrap_err();
     assert_eq!(status.code(), Code::Unauthenticated);
     assert!(app.norms().await.is_empty());
 
@@ -338,7 +344,10 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
         .into_inner()
         .norms;
     assert_eq!(listed, vec![created.clone()]);
-    let mut delete = tonic::Request::new(pb::DeleteNormRequest { id: created.id });
+    let mut delete = tonic::Request::new(pb::DeleteNormRequest {
+        id: created.id,
+        expected_revision: None,
+    });
     delete
         .metadata_mut()
         .insert("authorization", "Bearer s3cret".parse().unwrap());

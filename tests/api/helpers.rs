@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use reqwest::{Client, Response, StatusCode};
-use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES};
+use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
 use serde_json::{Value, json};
 use tempfile::TempDir;
 use tokio::sync::oneshot;
@@ -18,9 +18,14 @@ pub struct TestApp {
     task: Option<tokio::task::JoinHandle<()>>,
 }
 
+/// Changes one or more settings of a test server.
+pub type Tweak = Box<dyn FnOnce(&mut Config) + Send>;
+
 pub struct Options {
     pub admin_token: Option<String>,
     pub max_body_bytes: usize,
+    /// Any other setting, applied last.
+    pub tweak: Option<Tweak>,
 }
 
 impl Default for Options {
@@ -28,8 +33,18 @@ impl Default for Options {
         Options {
             admin_token: None,
             max_body_bytes: DEFAULT_MAX_BODY_BYTES,
+            tweak: None,
         }
     }
+}
+
+/// A server with one setting changed.
+pub async fn spawn_tweaked(tweak: impl FnOnce(&mut Config) + Send + 'static) -> TestApp {
+    spawn_with(Options {
+        tweak: Some(Box::new(tweak)),
+        ..Options::default()
+    })
+    .await
 }
 
 pub async fn spawn_app() -> TestApp {
@@ -44,12 +59,12 @@ pub async fn spawn_with(options: Options) -> TestApp {
 /// Another server on the same database directory: a restart, or a second process sharing it.
 pub async fn spawn_on(dir: std::sync::Arc<TempDir>, options: Options) -> TestApp {
     let db_path = dir.path().join("scruple.db");
-    let config = Config {
-        listen: "127.0.0.1:0".to_owned(),
-        database_url: format!("sqlite://{}", db_path.display()),
-        admin_token: options.admin_token,
-        max_body_bytes: options.max_body_bytes,
-    };
+    let mut config = Config::new("127.0.0.1:0", format!("sqlite://{}", db_path.display()));
+    config.admin_token = options.admin_token.map(Secret);
+    config.max_body_bytes = options.max_body_bytes;
+    if let Some(tweak) = options.tweak {
+        tweak(&mut config);
+    }
     let app = Application::build(config).await.expect("the service starts");
     let addr = app.local_addr().expect("bound");
     let (stop, stopped) = oneshot::channel::<()>();

@@ -8,6 +8,8 @@ mod errors;
 mod fail_closed;
 mod grpc;
 mod helpers;
+mod integrity;
+mod limits;
 mod norms;
 mod openapi;
 mod paper_demo;

@@ -19,7 +19,7 @@ async fn a_norm_is_stored_canonical_listed_fetched_and_deleted() {
     assert_eq!(location, format!("/v1/norms/{id}"));
     assert_eq!(
         created,
-        json!({"id": id, "kind": "forbidden_state", "state": "holding(self,X)", "when": ["fragile(X)"],
+        json!({"id": id, "revision": 1, "kind": "forbidden_state", "state": "holding(self,X)", "when": ["fragile(X)"],
                "severity": 4, "context": "hospital", "note": "no fragile things in hand"})
     );
     let defaulted = app

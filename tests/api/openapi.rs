@@ -44,12 +44,16 @@ fn the_document_has_every_operation_of_the_contract() {
             "GET /healthz",
             "GET /v1/actions",
             "GET /v1/actions/{name}",
+            "GET /v1/audit",
+            "GET /v1/norm-set",
             "GET /v1/norms",
             "GET /v1/norms/{id}",
             "POST /v1/check",
             "POST /v1/clarify",
             "POST /v1/norms",
             "PUT /v1/actions/{name}",
+            "PUT /v1/norm-set",
+            "PUT /v1/norms/{id}",
         ]
     );
 }

@@ -259,6 +259,8 @@ impl From<ReasonDto> for pb::Reason {
 impl From<pb::CreateNormRequest> for NormBody {
     fn from(n: pb::CreateNormRequest) -> Self {
         NormBody {
+            id: None,
+            revision: None,
             kind: n.kind,
             action: n.action,
             state: n.state,
@@ -276,6 +278,7 @@ impl From<NormDto> for pb::Norm {
     fn from(n: NormDto) -> Self {
         pb::Norm {
             id: n.id,
+            revision: n.revision,
             kind: n.kind,
             action: n.action,
             state: n.state,
@@ -377,6 +380,31 @@ impl From<ActionInput> for pb::Action {
                     removes: m.removes,
                 })
                 .collect(),
+        }
+    }
+}
+
+impl From<crate::api::NormSetDto> for pb::NormSet {
+    fn from(set: crate::api::NormSetDto) -> Self {
+        pb::NormSet {
+            version: set.version,
+            norms: set.norms.into_iter().map(Into::into).collect(),
+        }
+    }
+}
+
+impl From<crate::api::AuditEntryDto> for pb::AuditEntry {
+    fn from(e: crate::api::AuditEntryDto) -> Self {
+        pb::AuditEntry {
+            id: e.id,
+            at: e.at,
+            actor: e.actor,
+            subject: e.subject,
+            operation: e.operation,
+            target: e.target,
+            before_json: e.before.map(|v| v.to_string()),
+            after_json: e.after.map(|v| v.to_string()),
+            version: e.version,
         }
     }
 }

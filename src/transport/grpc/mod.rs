@@ -9,10 +9,14 @@ mod convert;
 
 use tonic::{Request, Response, Status};
 
-use crate::api::{CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto};
+use crate::api::{
+    AuditEntryDto, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DEFAULT_AUDIT_PAGE, DecisionDto,
+    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetDto,
+};
 use crate::engine::action::ActionInput;
 use crate::error::Error;
 use crate::transport::AppState;
+use crate::transport::auth::Access;
 
 /// Generated from `proto/scruple/v1/scruple.proto`.
 pub mod pb {
@@ -38,24 +42,32 @@ pub struct ActionsService {
     state: AppState,
 }
 
-/// Checks the admin token sent as metadata `authorization: Bearer TOKEN`.
-fn authorize<T>(state: &AppState, request: &Request<T>) -> Result<(), Status> {
+/// Checks the token sent as metadata `authorization: Bearer TOKEN`; returns its label.
+fn authorize<T>(state: &AppState, request: &Request<T>, access: Access) -> Result<std::sync::Arc<str>, Status> {
     let authorization = request.metadata().get("authorization").and_then(|v| v.to_str().ok());
-    Ok(state.authorize_write(authorization)?)
+    Ok(state.tokens.authorize(authorization, access)?)
+}
+
+fn norm_set(version: i64, norms: &[crate::engine::norms::Norm]) -> pb::NormSet {
+    NormSetDto {
+        version,
+        norms: norms.iter().map(NormDto::from).collect(),
+    }
+    .into()
 }
 
 #[tonic::async_trait]
 impl Clarifier for ClarifierService {
     async fn clarify(&self, request: Request<pb::ClarifyRequest>) -> Result<Response<pb::ClarifyResponse>, Status> {
         let body = ClarifyBody::try_from(request.into_inner())?;
-        let mut input = ClarifyInput::try_from(body)?;
+        let mut input = ClarifyInput::from_body(body, &self.state.limits)?;
         let text = input.text.take();
         let decision = self.state.core.clarify(input).await?;
         Ok(Response::new(DecisionDto::new(&decision, text).into()))
     }
 
     async fn check(&self, request: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {
-        let input = CheckInput::try_from(CheckBody::try_from(request.into_inner())?)?;
+        let input = CheckInput::from_body(CheckBody::try_from(request.into_inner())?, &self.state.limits)?;
         let check = self.state.core.check(input).await?;
         Ok(Response::new(CheckDto::from(&check).into()))
     }
@@ -64,13 +76,17 @@ impl Clarifier for ClarifierService {
 #[tonic::async_trait]
 impl Norms for NormsService {
     async fn create_norm(&self, request: Request<pb::CreateNormRequest>) -> Result<Response<pb::Norm>, Status> {
-        authorize(&self.state, &request)?;
+        let actor = authorize(&self.state, &request, Access::Write)?;
         let body = NormBody::from(request.into_inner());
-        let norm = self.state.core.create_norm(body.into_input()).await?;
+        let norm = self.state.core.create_norm(body.for_create()?, &actor).await?;
         Ok(Response::new(NormDto::from(&norm).into()))
     }
 
-    async fn list_norms(&self, _: Request<pb::ListNormsRequest>) -> Result<Response<pb::ListNormsResponse>, Status> {
+    async fn list_norms(
+        &self,
+        request: Request<pb::ListNormsRequest>,
+    ) -> Result<Response<pb::ListNormsResponse>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
         let norms = self.state.core.list_norms().await?;
         Ok(Response::new(pb::ListNormsResponse {
             norms: norms.iter().map(|n| NormDto::from(n).into()).collect(),
@@ -78,7 +94,19 @@ impl Norms for NormsService {
     }
 
     async fn get_norm(&self, request: Request<pb::GetNormRequest>) -> Result<Response<pb::Norm>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
         let norm = self.state.core.get_norm(request.into_inner().id).await?;
+        Ok(Response::new(NormDto::from(&norm).into()))
+    }
+
+    async fn replace_norm(&self, request: Request<pb::ReplaceNormRequest>) -> Result<Response<pb::Norm>, Status> {
+        let actor = authorize(&self.state, &request, Access::Write)?;
+        let request = request.into_inner();
+        let body = NormBody::from(request.norm.unwrap_or_default());
+        let input = body.for_replace(request.id)?;
+        let norm = (self.state.core)
+            .replace_norm(request.id, input, request.expected_revision, &actor)
+            .await?;
         Ok(Response::new(NormDto::from(&norm).into()))
     }
 
@@ -86,9 +114,48 @@ impl Norms for NormsService {
         &self,
         request: Request<pb::DeleteNormRequest>,
     ) -> Result<Response<pb::DeleteNormResponse>, Status> {
-        authorize(&self.state, &request)?;
-        self.state.core.delete_norm(request.into_inner().id).await?;
+        let actor = authorize(&self.state, &request, Access::Write)?;
+        let request = request.into_inner();
+        (self.state.core)
+            .delete_norm(request.id, request.expected_revision, &actor)
+            .await?;
         Ok(Response::new(pb::DeleteNormResponse {}))
+    }
+
+    async fn export_norms(&self, request: Request<pb::ExportNormsRequest>) -> Result<Response<pb::NormSet>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
+        let (version, norms) = self.state.core.export_norms().await?;
+        Ok(Response::new(norm_set(version, &norms)))
+    }
+
+    async fn import_norms(&self, request: Request<pb::ImportNormsRequest>) -> Result<Response<pb::NormSet>, Status> {
+        let actor = authorize(&self.state, &request, Access::Write)?;
+        let request = request.into_inner();
+        let inputs = (request.norms.into_iter())
+            .map(|n| (n.id, NormBody::from(n.norm.unwrap_or_default()).into_input()))
+            .collect();
+        let (version, norms) = (self.state.core)
+            .import_norms(inputs, request.expected_version, &actor)
+            .await?;
+        Ok(Response::new(norm_set(version, &norms)))
+    }
+
+    async fn list_audit(
+        &self,
+        request: Request<pb::ListAuditRequest>,
+    ) -> Result<Response<pb::ListAuditResponse>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
+        let request = request.into_inner();
+        let limit = request.limit.unwrap_or(DEFAULT_AUDIT_PAGE);
+        if !(1..=MAX_AUDIT_PAGE).contains(&limit) {
+            return Err(Error::invalid("/limit", format!("{limit} is out of range 1..={MAX_AUDIT_PAGE}")).into());
+        }
+        let entries = self.state.core.audit(request.after, limit).await?;
+        let next_after = entries.last().map_or(request.after, |e| e.id);
+        Ok(Response::new(pb::ListAuditResponse {
+            entries: entries.into_iter().map(|e| AuditEntryDto::from(e).into()).collect(),
+            next_after,
+        }))
     }
 }
 
@@ -96,8 +163,9 @@ impl Norms for NormsService {
 impl Actions for ActionsService {
     async fn list_actions(
         &self,
-        _: Request<pb::ListActionsRequest>,
+        request: Request<pb::ListActionsRequest>,
     ) -> Result<Response<pb::ListActionsResponse>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
         let actions = self.state.core.list_actions().await?;
         Ok(Response::new(pb::ListActionsResponse {
             actions: actions.into_iter().map(Into::into).collect(),
@@ -105,6 +173,7 @@ impl Actions for ActionsService {
     }
 
     async fn get_action(&self, request: Request<pb::GetActionRequest>) -> Result<Response<pb::Action>, Status> {
+        authorize(&self.state, &request, Access::Read)?;
         let action = self.state.core.get_action(&request.into_inner().name).await?;
         Ok(Response::new(action.into()))
     }
@@ -113,10 +182,10 @@ impl Actions for ActionsService {
         &self,
         request: Request<pb::PutActionRequest>,
     ) -> Result<Response<pb::PutActionResponse>, Status> {
-        authorize(&self.state, &request)?;
+        let actor = authorize(&self.state, &request, Access::Write)?;
         let request = request.into_inner();
         let body = ActionInput::from(request.action.unwrap_or_default());
-        let (stored, created) = self.state.core.put_action(&request.name, body).await?;
+        let (stored, created) = self.state.core.put_action(&request.name, body, &actor).await?;
         Ok(Response::new(pb::PutActionResponse {
             action: Some(stored.into()),
             created,
@@ -127,8 +196,11 @@ impl Actions for ActionsService {
         &self,
         request: Request<pb::DeleteActionRequest>,
     ) -> Result<Response<pb::DeleteActionResponse>, Status> {
-        authorize(&self.state, &request)?;
-        self.state.core.delete_action(&request.into_inner().name).await?;
+        let actor = authorize(&self.state, &request, Access::Write)?;
+        self.state
+            .core
+            .delete_action(&request.into_inner().name, &actor)
+            .await?;
         Ok(Response::new(pb::DeleteActionResponse {}))
     }
 }
@@ -137,6 +209,8 @@ impl Actions for ActionsService {
 /// is open and migrated before this is built) and reflection, both v1 and v1alpha (older grpcurl
 /// speaks only v1alpha).
 pub async fn router(state: AppState) -> Result<axum::Router, Error> {
+    // The REST body limit holds for gRPC messages too (RESOURCE_EXHAUSTED above it).
+    let limit = state.max_body_bytes;
     let (health_reporter, health) = tonic_health::server::health_reporter();
     health_reporter.set_serving::<ClarifierServer<ClarifierService>>().await;
     health_reporter.set_serving::<NormsServer<NormsService>>().await;
@@ -155,8 +229,8 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
     Ok(tonic::service::Routes::new(health)
         .add_service(reflection_v1)
         .add_service(reflection_v1alpha)
-        .add_service(ClarifierServer::new(ClarifierService { state: state.clone() }))
-        .add_service(NormsServer::new(NormsService { state: state.clone() }))
-        .add_service(ActionsServer::new(ActionsService { state }))
+        .add_service(ClarifierServer::new(ClarifierService { state: state.clone() }).max_decoding_message_size(limit))
+        .add_service(NormsServer::new(NormsService { state: state.clone() }).max_decoding_message_size(limit))
+        .add_service(ActionsServer::new(ActionsService { state }).max_decoding_message_size(limit))
         .into_axum_router())
 }

@@ -16,22 +16,23 @@ use utoipa::{Modify, OpenApi, ToSchema};
     ),
     tags(
         (name = "clarify", description = "Decisions about directives"),
-        (name = "norms", description = "The norms every decision is checked against; writes need the admin token when one is set"),
-        (name = "actions", description = "The action library (verbs as data); writes need the admin token when one is set"),
+        (name = "norms", description = "The norms every decision is checked against, their export and import, and the audit trail of every change. Writes need a write token (the admin token or a curator token) when any token is configured; reads need a token once reader tokens are configured"),
+        (name = "actions", description = "The action library (verbs as data); tokens as for norms"),
         (name = "service", description = "Health"),
     ),
-    modifiers(&AdminToken),
+    modifiers(&BearerToken),
 )]
 pub struct ApiDoc;
 
-/// `Authorization: Bearer TOKEN`, required on writes when the service runs with `--admin-token`.
-struct AdminToken;
+/// `Authorization: Bearer TOKEN`: on writes once any token is configured (`--admin-token`,
+/// `--curator-token`), on reads of norms and verbs once a `--reader-token` is.
+struct BearerToken;
 
-impl Modify for AdminToken {
+impl Modify for BearerToken {
     fn modify(&self, openapi: &mut utoipa::openapi::OpenApi) {
         let components = openapi.components.get_or_insert_with(Default::default);
         components.add_security_scheme(
-            "admin_token",
+            "token",
             SecurityScheme::Http(HttpBuilder::new().scheme(HttpAuthScheme::Bearer).build()),
         );
     }

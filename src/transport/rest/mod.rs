@@ -16,11 +16,13 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use crate::api::{
-    CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormDto, parse_json,
+    AuditEntryDto, AuditPageDto, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DEFAULT_AUDIT_PAGE,
+    DecisionDto, MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
 };
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::AppState;
+use crate::transport::auth::Access;
 
 mod doc;
 
@@ -30,7 +32,9 @@ fn routes() -> OpenApiRouter<AppState> {
     OpenApiRouter::with_openapi(doc::ApiDoc::openapi())
         .routes(routes!(healthz))
         .routes(routes!(list_norms, create_norm))
-        .routes(routes!(get_norm, delete_norm))
+        .routes(routes!(get_norm, replace_norm, delete_norm))
+        .routes(routes!(export_norms, import_norms))
+        .routes(routes!(audit))
         .routes(routes!(clarify))
         .routes(routes!(check))
         .routes(routes!(list_actions))
@@ -86,17 +90,64 @@ impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
     }
 }
 
-/// Proof that the caller may change norms: the admin token, compared in constant time, or no
-/// token configured at all.
-pub struct Admin;
+/// A caller allowed to change norms and verbs: the label of its token (see `auth::Tokens`).
+pub struct Writer(pub std::sync::Arc<str>);
 
-impl FromRequestParts<AppState> for Admin {
+impl FromRequestParts<AppState> for Writer {
     type Rejection = Error;
 
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, Error> {
         let authorization = parts.headers.get(header::AUTHORIZATION).and_then(|v| v.to_str().ok());
-        state.authorize_write(authorization).map(|()| Admin)
+        state.tokens.authorize(authorization, Access::Write).map(Writer)
     }
+}
+
+/// A caller allowed to read the curated state (always, unless reader tokens are configured).
+pub struct Reader;
+
+impl FromRequestParts<AppState> for Reader {
+    type Rejection = Error;
+
+    async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, Error> {
+        let authorization = parts.headers.get(header::AUTHORIZATION).and_then(|v| v.to_str().ok());
+        state.tokens.authorize(authorization, Access::Read).map(|_| Reader)
+    }
+}
+
+/// `If-Match`: absent or `*` asks for no precondition; otherwise one ETag as the API gave it
+/// (`"12"`; a weakened `W/"12"` is taken too). Anything else can match no revision, so the
+/// write is refused as stale rather than done unconditionally.
+pub struct IfMatch(Option<i64>);
+
+impl FromRequestParts<AppState> for IfMatch {
+    type Rejection = Error;
+
+    async fn from_request_parts(parts: &mut Parts, _: &AppState) -> Result<Self, Error> {
+        let Some(value) = parts.headers.get(header::IF_MATCH) else {
+            return Ok(IfMatch(None));
+        };
+        let text = value.to_str().unwrap_or_default().trim();
+        if text == "*" {
+            return Ok(IfMatch(None));
+        }
+        let tag = text.strip_prefix("W/").unwrap_or(text);
+        let revision = tag
+            .strip_prefix('"')
+            .and_then(|t| t.strip_suffix('"'))
+            .and_then(|t| t.parse::<i64>().ok())
+            .filter(|r| *r >= 0)
+            // No stored revision is negative: an unreadable tag is a precondition that fails.
+            .unwrap_or(-1);
+        Ok(IfMatch(Some(revision)))
+    }
+}
+
+/// `ETag: "N"` for a norm's revision or the norm set's version.
+fn with_etag(mut response: Response, revision: i64) -> Response {
+    if let Ok(value) = HeaderValue::from_str(&format!("\"{revision}\"")) {
+        response.headers_mut().insert(header::ETAG, value);
+    }
+    response
 }
 
 /// A norm id from the path; anything but an integer names no norm.
@@ -119,11 +170,14 @@ async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>,
 
 #[utoipa::path(get, path = "/v1/norms", tag = "norms",
     summary = "Every norm, by ascending id",
+    security((), ("token" = [])),
     responses(
         (status = 200, description = "The norms", body = Vec<NormDto>),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn list_norms(State(app): State<AppState>) -> Result<Json<Vec<NormDto>>, Error> {
+async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<NormDto>>, Error> {
     let norms = app.core.list_norms().await?;
     Ok(Json(norms.iter().map(NormDto::from).collect()))
 }
@@ -131,14 +185,14 @@ async fn list_norms(State(app): State<AppState>) -> Result<Json<Vec<NormDto>>, E
 #[utoipa::path(post, path = "/v1/norms", tag = "norms",
     summary = "Add a norm; nothing is stored unless every field is valid",
     request_body(content = NormBody, example = json!({"kind": "forbidden_state", "state": "did(self,get(object3))", "note": "the fragile vase may not be got"})),
-    security((), ("admin_token" = [])),
+    security((), ("token" = [])),
     responses(
-        (status = 201, description = "Stored, with its id; `Location` names it", body = NormDto,
-         headers(("location" = String, description = "/v1/norms/{id}")),
-         example = json!({"id": 2, "kind": "forbidden_state", "state": "did(self,get(object3))", "when": [], "severity": 3, "note": "the fragile vase may not be got"})),
+        (status = 201, description = "Stored, with its id; `Location` names it, `ETag` is its revision", body = NormDto,
+         headers(("location" = String, description = "/v1/norms/{id}"), ("etag" = String, description = "The revision, quoted")),
+         example = json!({"id": 2, "revision": 2, "kind": "forbidden_state", "state": "did(self,get(object3))", "when": [], "severity": 3, "note": "the fragile vase may not be got"})),
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
         (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
@@ -147,44 +201,190 @@ async fn list_norms(State(app): State<AppState>) -> Result<Json<Vec<NormDto>>, E
     ))]
 async fn create_norm(
     State(app): State<AppState>,
-    _: Admin,
+    Writer(actor): Writer,
     JsonBody(body): JsonBody<NormBody>,
 ) -> Result<Response, Error> {
-    let norm = app.core.create_norm(body.into_input()).await?;
+    let norm = app.core.create_norm(body.for_create()?, &actor).await?;
     let mut response = (StatusCode::CREATED, Json(NormDto::from(&norm))).into_response();
     if let Ok(location) = HeaderValue::from_str(&format!("/v1/norms/{}", norm.id)) {
         response.headers_mut().insert(header::LOCATION, location);
     }
-    Ok(response)
+    Ok(with_etag(response, norm.revision))
 }
 
 #[utoipa::path(get, path = "/v1/norms/{id}", tag = "norms",
-    summary = "One norm",
+    summary = "One norm, with its revision as `ETag`",
     params(("id" = i64, Path, description = "The norm's id")),
+    security((), ("token" = [])),
     responses(
-        (status = 200, description = "The norm", body = NormDto),
+        (status = 200, description = "The norm", body = NormDto, headers(("etag" = String, description = "The revision, quoted"))),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn get_norm(State(app): State<AppState>, Path(id): Path<String>) -> Result<Json<NormDto>, Error> {
+async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>) -> Result<Response, Error> {
     let norm = app.core.get_norm(norm_id(&id)?).await?;
-    Ok(Json(NormDto::from(&norm)))
+    Ok(with_etag(Json(NormDto::from(&norm)).into_response(), norm.revision))
+}
+
+#[utoipa::path(put, path = "/v1/norms/{id}", tag = "norms",
+    summary = "Replace a norm (its id stays); with `If-Match`, only if nobody changed it since",
+    description = "Send the `ETag` from GET (or the norm's `revision`, quoted) in `If-Match`: if the norm has changed since, nothing is written and the answer is 412. Without `If-Match` (or with `*`) the norm is replaced whatever its revision.",
+    params(
+        ("id" = i64, Path, description = "The norm's id"),
+        ("if-match" = Option<String>, Header, description = "The revision expected, as an ETag: `\"12\"`"),
+    ),
+    request_body(content = NormBody, example = json!({"kind": "forbidden_state", "state": "did(self,get(object3))", "severity": 4})),
+    security((), ("token" = [])),
+    responses(
+        (status = 200, description = "Replaced; the norm as stored, its new revision in `ETag`", body = NormDto,
+         headers(("etag" = String, description = "The new revision, quoted"))),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
+        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
+        (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
+        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn replace_norm(
+    State(app): State<AppState>,
+    Writer(actor): Writer,
+    IfMatch(expected): IfMatch,
+    Path(id): Path<String>,
+    JsonBody(body): JsonBody<NormBody>,
+) -> Result<Response, Error> {
+    let id = norm_id(&id)?;
+    let norm = app
+        .core
+        .replace_norm(id, body.for_replace(id)?, expected, &actor)
+        .await?;
+    Ok(with_etag(Json(NormDto::from(&norm)).into_response(), norm.revision))
 }
 
 #[utoipa::path(delete, path = "/v1/norms/{id}", tag = "norms",
-    summary = "Remove a norm",
-    params(("id" = i64, Path, description = "The norm's id")),
-    security((), ("admin_token" = [])),
+    summary = "Remove a norm; with `If-Match`, only if nobody changed it since",
+    params(
+        ("id" = i64, Path, description = "The norm's id"),
+        ("if-match" = Option<String>, Header, description = "The revision expected, as an ETag: `\"12\"`"),
+    ),
+    security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
+        (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was removed", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn delete_norm(State(app): State<AppState>, _: Admin, Path(id): Path<String>) -> Result<StatusCode, Error> {
-    app.core.delete_norm(norm_id(&id)?).await?;
+async fn delete_norm(
+    State(app): State<AppState>,
+    Writer(actor): Writer,
+    IfMatch(expected): IfMatch,
+    Path(id): Path<String>,
+) -> Result<StatusCode, Error> {
+    app.core.delete_norm(norm_id(&id)?, expected, &actor).await?;
     Ok(StatusCode::NO_CONTENT)
+}
+
+#[utoipa::path(get, path = "/v1/norm-set", tag = "norms",
+    summary = "Export the whole norm set, for backups and review",
+    security((), ("token" = [])),
+    responses(
+        (status = 200, description = "Every norm and the version they make up (also the `ETag`)", body = NormSetDto,
+         headers(("etag" = String, description = "The norm-set version, quoted"))),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response, Error> {
+    let (version, norms) = app.core.export_norms().await?;
+    let set = NormSetDto {
+        version,
+        norms: norms.iter().map(NormDto::from).collect(),
+    };
+    Ok(with_etag(Json(set).into_response(), version))
+}
+
+#[utoipa::path(put, path = "/v1/norm-set", tag = "norms",
+    summary = "Import a whole norm set, replacing every norm in one transaction",
+    description = "Takes what GET /v1/norm-set gives. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
+    params(("if-match" = Option<String>, Header, description = "The norm-set version expected, as an ETag")),
+    request_body(content = NormSetBody, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
+    security((), ("token" = [])),
+    responses(
+        (status = 200, description = "Imported; the set as stored, its version in `ETag`", body = NormSetDto,
+         headers(("etag" = String, description = "The new norm-set version, quoted"))),
+        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
+        (status = 412, description = "The set has changed since the version in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
+        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn import_norms(
+    State(app): State<AppState>,
+    Writer(actor): Writer,
+    IfMatch(expected): IfMatch,
+    JsonBody(body): JsonBody<NormSetBody>,
+) -> Result<Response, Error> {
+    let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
+    let (version, norms) = app.core.import_norms(inputs, expected, &actor).await?;
+    let set = NormSetDto {
+        version,
+        norms: norms.iter().map(NormDto::from).collect(),
+    };
+    Ok(with_etag(Json(set).into_response(), version))
+}
+
+/// `?after=ID&limit=N` for the audit trail.
+#[derive(serde::Deserialize, utoipa::IntoParams)]
+#[into_params(parameter_in = Query)]
+struct AuditQuery {
+    /// Entries with ids above this one (default 0: from the start).
+    after: Option<i64>,
+    /// At most this many entries, 1..=1000 (default 100).
+    limit: Option<i64>,
+}
+
+#[utoipa::path(get, path = "/v1/audit", tag = "norms",
+    summary = "The audit trail: every change to norms and verbs, oldest first",
+    params(AuditQuery),
+    security((), ("token" = [])),
+    responses(
+        (status = 200, description = "A page of entries", body = AuditPageDto),
+        (status = 400, description = "`after` or `limit` is not an integer", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "`limit` is out of range", body = Problem, content_type = PROBLEM_JSON),
+        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+    ))]
+async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
+    let query = axum::extract::Query::<AuditQuery>::try_from_uri(request.uri()).map_err(|e| Error::MalformedBody {
+        detail: format!("query: {}", e.body_text()),
+    })?;
+    let after = query.after.unwrap_or(0);
+    let limit = query.limit.unwrap_or(DEFAULT_AUDIT_PAGE);
+    if !(1..=MAX_AUDIT_PAGE).contains(&limit) {
+        return Err(Error::invalid(
+            "/limit",
+            format!("{limit} is out of range 1..={MAX_AUDIT_PAGE}"),
+        ));
+    }
+    let entries: Vec<AuditEntryDto> = app
+        .core
+        .audit(after, limit)
+        .await?
+        .into_iter()
+        .map(Into::into)
+        .collect();
+    let next_after = entries.last().map_or(after, |e| e.id);
+    Ok(Json(AuditPageDto { entries, next_after }))
 }
 
 #[utoipa::path(post, path = "/v1/clarify", tag = "clarify",
@@ -204,7 +404,7 @@ async fn clarify(
     State(app): State<AppState>,
     JsonBody(body): JsonBody<ClarifyBody>,
 ) -> Result<Json<DecisionDto>, Error> {
-    let mut input = ClarifyInput::try_from(body)?;
+    let mut input = ClarifyInput::from_body(body, &app.limits)?;
     let text = input.text.take();
     let decision = app.core.clarify(input).await?;
     Ok(Json(DecisionDto::new(&decision, text)))
@@ -224,7 +424,7 @@ async fn clarify(
         (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
     ))]
 async fn check(State(app): State<AppState>, JsonBody(body): JsonBody<CheckBody>) -> Result<Json<CheckDto>, Error> {
-    let input = CheckInput::try_from(body)?;
+    let input = CheckInput::from_body(body, &app.limits)?;
     let check = app.core.check(input).await?;
     Ok(Json(CheckDto::from(&check)))
 }
@@ -241,24 +441,34 @@ fn verb_name(text: &str) -> Result<&str, Error> {
 
 #[utoipa::path(get, path = "/v1/actions", tag = "actions",
     summary = "Every verb of the action library, by name",
+    security((), ("token" = [])),
     responses(
         (status = 200, description = "The verbs", body = Vec<ActionInput>),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn list_actions(State(app): State<AppState>) -> Result<Json<Vec<ActionInput>>, Error> {
+async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<ActionInput>>, Error> {
     Ok(Json(app.core.list_actions().await?))
 }
 
 #[utoipa::path(get, path = "/v1/actions/{name}", tag = "actions",
     summary = "One verb",
+    security((), ("token" = [])),
     params(("name" = String, Path, description = "The verb, e.g. `put`")),
     responses(
         (status = 200, description = "The verb", body = ActionInput,
          example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
+        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn get_action(State(app): State<AppState>, Path(name): Path<String>) -> Result<Json<ActionInput>, Error> {
+async fn get_action(
+    State(app): State<AppState>,
+    _: Reader,
+    Path(name): Path<String>,
+) -> Result<Json<ActionInput>, Error> {
     Ok(Json(app.core.get_action(verb_name(&name)?).await?))
 }
 
@@ -266,24 +476,24 @@ async fn get_action(State(app): State<AppState>, Path(name): Path<String>) -> Re
     summary = "Add or replace a verb; nothing is stored unless it is valid and its steps do not loop",
     params(("name" = String, Path, description = "The verb, e.g. `open`")),
     request_body(content = ActionInput, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
-    security((), ("admin_token" = [])),
+    security((), ("token" = [])),
     responses(
         (status = 200, description = "Replaced; the verb as stored", body = ActionInput),
         (status = 201, description = "Added; the verb as stored", body = ActionInput),
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change the library", body = Problem, content_type = PROBLEM_JSON),
         (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
 async fn put_action(
     State(app): State<AppState>,
-    _: Admin,
+    Writer(actor): Writer,
     Path(name): Path<String>,
     JsonBody(body): JsonBody<ActionInput>,
 ) -> Result<Response, Error> {
-    let (stored, created) = app.core.put_action(verb_name(&name)?, body).await?;
+    let (stored, created) = app.core.put_action(verb_name(&name)?, body, &actor).await?;
     let status = if created { StatusCode::CREATED } else { StatusCode::OK };
     Ok((status, Json(stored)).into_response())
 }
@@ -291,15 +501,19 @@ async fn put_action(
 #[utoipa::path(delete, path = "/v1/actions/{name}", tag = "actions",
     summary = "Remove a verb; readings that use it become `unknown_action`",
     params(("name" = String, Path, description = "The verb")),
-    security((), ("admin_token" = [])),
+    security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 401, description = "An admin token is set and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not the admin token", body = Problem, content_type = PROBLEM_JSON),
+        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
+        (status = 403, description = "The token sent may not change the library", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn delete_action(State(app): State<AppState>, _: Admin, Path(name): Path<String>) -> Result<StatusCode, Error> {
-    app.core.delete_action(verb_name(&name)?).await?;
+async fn delete_action(
+    State(app): State<AppState>,
+    Writer(actor): Writer,
+    Path(name): Path<String>,
+) -> Result<StatusCode, Error> {
+    app.core.delete_action(verb_name(&name)?, &actor).await?;
     Ok(StatusCode::NO_CONTENT)
 }
