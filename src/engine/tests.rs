@@ -2025,8 +2025,17 @@ fn arb_case() -> impl Strategy<Value = RandomCase> {
         )
 }
 
+/// 1,000 cases on every `cargo test`; the long run sets `SCRUPLE_PROPTEST_CASES` (e.g. 10000,
+/// see README "Hostile input").
+fn safety_cases() -> u32 {
+    std::env::var("SCRUPLE_PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1000)
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(1000))]
+    #![proptest_config(ProptestConfig::with_cases(safety_cases()))]
 
     #[test]
     fn moral_strategy_never_offers_assumes_confirms_or_obeys_a_bad_reading(case in arb_case()) {

@@ -3,6 +3,7 @@
 //! Must not: write outside a transaction, or let a row it cannot parse pass as a norm (a corrupt
 //! row is a store error, so clarify fails closed).
 
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::time::Duration;
 
@@ -28,6 +29,17 @@ macro_rules! norm_columns {
 #[derive(Clone, Debug)]
 pub struct SqliteStore {
     pool: SqlitePool,
+    /// The database file as opened and its (device, inode); `None` in memory. Open connections
+    /// keep reading a file deleted or replaced under them, and writes to it would vanish, so
+    /// every request checks that the path still names this file (one `stat`) and fails closed
+    /// when it does not.
+    file: Option<(PathBuf, (u64, u64))>,
+}
+
+fn identity(path: &Path) -> std::io::Result<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    let metadata = std::fs::metadata(path)?;
+    Ok((metadata.dev(), metadata.ino()))
 }
 
 impl SqliteStore {
@@ -44,18 +56,39 @@ impl SqliteStore {
         let pool = SqlitePoolOptions::new()
             .max_connections(8)
             .acquire_timeout(Duration::from_secs(5))
-            .connect_with(options)
+            .connect_with(options.clone())
             .await?;
         sqlx::migrate!("./migrations")
             .run(&pool)
             .await
             .map_err(|e| StoreError(format!("migrations: {e}")))?;
-        Ok(SqliteStore { pool })
+        let path = options.get_filename();
+        let in_memory = url.contains(":memory:") || url.contains("mode=memory");
+        let file = if in_memory {
+            None
+        } else {
+            let id = identity(path).map_err(|e| StoreError(format!("{}: {e}", path.display())))?;
+            Some((path.to_owned(), id))
+        };
+        Ok(SqliteStore { pool, file })
+    }
+
+    /// Whether the path still names the file opened (see `file`).
+    fn still_there(&self) -> Result<(), StoreError> {
+        let Some((path, opened)) = &self.file else {
+            return Ok(());
+        };
+        match identity(path) {
+            Ok(now) if now == *opened => Ok(()),
+            Ok(_) => Err(StoreError(format!("{} was replaced by another file", path.display()))),
+            Err(e) => Err(StoreError(format!("{} is gone: {e}", path.display()))),
+        }
     }
 
     /// `BEGIN IMMEDIATE`: takes the write lock up front, so concurrent writers queue on the busy
     /// timeout instead of failing to upgrade a read lock.
     async fn write(&self) -> Result<Transaction<'static, Sqlite>, StoreError> {
+        self.still_there()?;
         Ok(self.pool.begin_with("BEGIN IMMEDIATE").await?)
     }
 
@@ -214,6 +247,7 @@ fn norm_from_row(row: &SqliteRow) -> Result<Norm, StoreError> {
 #[async_trait]
 impl NormStore for SqliteStore {
     async fn versions(&self) -> Result<Versions, StoreError> {
+        self.still_there()?;
         let (norms, actions): (i64, i64) = sqlx::query_as(
             "SELECT (SELECT version FROM norm_set WHERE id = 1), (SELECT version FROM action_set WHERE id = 1)",
         )
@@ -223,6 +257,7 @@ impl NormStore for SqliteStore {
     }
 
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError> {
+        self.still_there()?;
         // One read transaction: the version and the rows come from the same snapshot.
         let mut tx = self.pool.begin().await?;
         let version: i64 = sqlx::query_scalar("SELECT version FROM norm_set WHERE id = 1")
@@ -384,6 +419,7 @@ impl NormStore for SqliteStore {
     }
 
     async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError> {
+        self.still_there()?;
         let mut tx = self.pool.begin().await?;
         let version: i64 = sqlx::query_scalar("SELECT version FROM action_set WHERE id = 1")
             .fetch_one(&mut *tx)

@@ -1,9 +1,11 @@
-//! `--admin-token`: writes need it (401 without, 403 wrong); reads and clarify stay open.
+//! Tokens: writes need a write token (401 without, 403 wrong or read-only); reads need one once
+//! reader tokens are configured; clarify and check never do; secrets never reach a log.
 
 use reqwest::StatusCode;
 use serde_json::json;
 
-use crate::helpers::{Options, assert_problem, get_vase, spawn_with};
+use crate::helpers::{Options, assert_problem, get_vase, spawn_tweaked, spawn_with};
+use scruple::transport::auth::LabelledSecret;
 
 #[tokio::test]
 async fn writes_need_the_admin_token_and_reads_do_not() {
@@ -84,4 +86,114 @@ async fn writes_need_the_admin_token_and_reads_do_not() {
         .unwrap();
     assert_eq!(deleted.status(), StatusCode::NO_CONTENT);
     assert!(app.norms().await.is_empty());
+}
+
+fn labelled(label: &str, secret: &str) -> LabelledSecret {
+    LabelledSecret {
+        label: label.to_owned(),
+        secret: secret.to_owned(),
+    }
+}
+
+#[tokio::test]
+async fn reader_tokens_guard_reads_of_the_curated_state_but_never_decisions() {
+    let app = spawn_tweaked(|c| {
+        c.curator_tokens = vec![labelled("alice", "alice-secret-0123456789")];
+        c.reader_tokens = vec![labelled("dashboard", "dashboard-secret-0123456789")];
+    })
+    .await;
+    let norm = json!({"kind": "forbidden_state", "state": "did(self,get(object3))"});
+    let send = |request: reqwest::RequestBuilder, token: Option<&str>| {
+        let request = match token {
+            Some(token) => request.bearer_auth(token),
+            None => request,
+        };
+        request.send()
+    };
+    let reader = Some("dashboard-secret-0123456789");
+    let curator = Some("alice-secret-0123456789");
+    let created = send(app.client.post(app.url("/v1/norms")).json(&norm), curator)
+        .await
+        .unwrap();
+    assert_eq!(created.status(), StatusCode::CREATED);
+    let refused = send(app.client.post(app.url("/v1/norms")).json(&norm), reader)
+        .await
+        .unwrap();
+    let problem = assert_problem(refused, StatusCode::FORBIDDEN, None).await;
+    assert!(problem["detail"].as_str().unwrap().contains("may read"), "{problem}");
+    for path in [
+        "/v1/norms",
+        "/v1/norms/1",
+        "/v1/norm-set",
+        "/v1/audit",
+        "/v1/actions",
+        "/v1/actions/get",
+    ] {
+        assert_problem(app.get(path).await, StatusCode::UNAUTHORIZED, None).await;
+        let stranger = send(app.client.get(app.url(path)), Some("nobody-0123456789"))
+            .await
+            .unwrap();
+        assert_problem(stranger, StatusCode::FORBIDDEN, None).await;
+        for token in [reader, curator] {
+            let read = send(app.client.get(app.url(path)), token).await.unwrap();
+            assert_eq!(read.status(), StatusCode::OK, "{path}");
+        }
+    }
+    let decision = app.clarify(&get_vase()).await;
+    assert_eq!(decision["decision"], "assume", "a robot's decisions need no token");
+}
+
+/// Secrets must not reach logs even at the most verbose level, whether sent right or wrong.
+#[tokio::test]
+async fn tokens_never_reach_the_log() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.txt");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
+        .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
+        .arg(format!("sqlite://{}", dir.path().join("db").display()))
+        .env("SCRUPLE_ADMIN_TOKEN", "admin-SECRET-in-env")
+        .env("SCRUPLE_CURATOR_TOKENS", "carol=carol-SECRET-0123456789")
+        .env("RUST_LOG", "trace")
+        .stdout(Stdio::piped())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let mut first = Vec::new();
+    let mut byte = [0u8; 1];
+    while stdout.read(&mut byte).unwrap() == 1 && byte[0] != b'\n' {
+        first.push(byte[0]);
+    }
+    let addr = String::from_utf8(first)
+        .unwrap()
+        .trim()
+        .strip_prefix("listening on ")
+        .unwrap()
+        .to_owned();
+    let client = reqwest::Client::new();
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    for token in ["admin-SECRET-in-env", "carol-SECRET-0123456789", "wrong-SECRET-guess"] {
+        let _ = client
+            .post(format!("http://{addr}/v1/norms"))
+            .bearer_auth(token)
+            .json(&norm)
+            .send()
+            .await
+            .unwrap();
+    }
+    terminate(child.id());
+    child.wait().unwrap();
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.len() > 1000, "trace logging is on: {} bytes", text.len());
+    assert!(!text.contains("SECRET"), "a secret reached the log");
+}
+
+fn terminate(pid: u32) {
+    let status = std::process::Command::new("kill")
+        .args(["-TERM", &pid.to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
 }

@@ -1,4 +1,6 @@
-//! When the norms cannot be read, clarify answers 503 and never complies or assumes.
+//! When the norms cannot be read (a table dropped, a row corrupt, the file deleted, replaced or not
+//! a database), clarify answers 503 and never complies or assumes; writes refused on a lock leave
+//! nothing behind.
 
 use reqwest::StatusCode;
 use serde_json::json;
@@ -80,4 +82,90 @@ async fn health_is_ok_once_the_store_is_open() {
     let app = spawn_app().await;
     let response = app.get("/healthz").await;
     assert_eq!(response.status(), StatusCode::OK);
+}
+
+#[tokio::test]
+async fn a_database_file_deleted_under_the_service_fails_closed_instead_of_writing_into_the_void() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    for suffix in ["", "-wal", "-shm"] {
+        let mut path = app.db_path.clone().into_os_string();
+        path.push(suffix);
+        let _ = std::fs::remove_file(path);
+    }
+    let problem = assert_problem(
+        app.post("/v1/clarify", &get_vase()).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert!(problem["detail"].as_str().unwrap().contains("is gone"), "{problem}");
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    assert_problem(
+        app.post("/v1/norms", &norm).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert_problem(app.get("/healthz").await, StatusCode::SERVICE_UNAVAILABLE, None).await;
+}
+
+#[tokio::test]
+async fn a_database_file_replaced_under_the_service_fails_closed() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    // Someone restores an old copy over the live file: its norms are not the ones acknowledged.
+    let copy = app.dir.path().join("copy.db");
+    std::fs::copy(&app.db_path, &copy).unwrap();
+    std::fs::rename(&copy, &app.db_path).unwrap();
+    let problem = assert_problem(
+        app.post("/v1/clarify", &get_vase()).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert!(problem["detail"].as_str().unwrap().contains("replaced"), "{problem}");
+}
+
+/// In WAL mode another process's write lock never blocks reading the committed norms, so
+/// decisions go on under them (the norms in force are known); a write waits out the busy timeout
+/// and is refused with 503, writing nothing.
+#[tokio::test]
+async fn a_write_lock_held_by_another_process_refuses_writes_and_keeps_deciding_under_committed_norms() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let mut holder = SqliteConnectOptions::new()
+        .filename(&app.db_path)
+        .connect()
+        .await
+        .expect("open the database");
+    sqlx::query("BEGIN IMMEDIATE").execute(&mut holder).await.unwrap();
+    sqlx::query("UPDATE norm_set SET version = version + 1")
+        .execute(&mut holder)
+        .await
+        .unwrap();
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    let refused = app.post("/v1/norms", &norm).await;
+    assert_eq!(refused.headers().get("retry-after").unwrap(), "1");
+    assert_problem(refused, StatusCode::SERVICE_UNAVAILABLE, None).await;
+    sqlx::query("ROLLBACK").execute(&mut holder).await.unwrap();
+    holder.close().await.unwrap();
+    assert_eq!(app.norms().await.len(), 1, "the refused write left nothing behind");
+}
+
+#[tokio::test]
+async fn the_service_refuses_to_start_on_a_file_that_is_not_a_database() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("corrupt.db");
+    std::fs::write(&path, vec![0x5a_u8; 8192]).unwrap();
+    let config = scruple::app::Config::new("127.0.0.1:0", format!("sqlite://{}", path.display()));
+    let error = scruple::app::Application::build(config)
+        .await
+        .err()
+        .expect("a corrupt file must not start a service that would decide without norms");
+    assert!(error.to_string().contains("not a database"), "{error}");
 }

@@ -4,6 +4,7 @@ mod actions;
 mod auth;
 mod beyond;
 mod binary;
+mod crash;
 mod errors;
 mod fail_closed;
 mod grpc;

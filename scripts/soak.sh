@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Load and soak of the release server on the paper's "Get the vase." (REST, HTTP/1.1):
+#  1. load: exactly N requests (default 100,000) at concurrency 128 with h2load --h1; every answer
+#     must be 200 (no 503 from admission control, no error);
+#  2. soak: wrk at concurrency 32 for S seconds (default 600), the server's RSS sampled every 10 s;
+#     fails unless every sample after the first minute is within 10% of that minute's sample.
+# Prints Markdown for BENCHMARKS.md. Installs wrk and h2load (Debian) when missing.
+# Usage: scripts/soak.sh [REQUESTS, default 100000] [SOAK SECONDS, default 600]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+requests=${1:-100000}
+soak=${2:-600}
+if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
+  apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
+fi
+cargo build --release --quiet --bin scruple
+work=$(mktemp -d)
+server=""
+cleanup() { if [ -n "$server" ]; then kill "$server" 2>/dev/null || true; fi; rm -rf "$work"; }
+trap cleanup EXIT
+fail() { echo "soak: FAIL: $*" >&2; exit 1; }
+
+target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/soak.db" >"$work/out" 2>"$work/err" &
+server=$!
+for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
+addr=$(sed -n 's/^listening on //p' "$work/out")
+[ -n "$addr" ] || fail "no 'listening on' line: $(cat "$work/err")"
+python3 - "$addr" "$work" <<'PY'
+import json, sys, urllib.request
+addr, work = sys.argv[1], sys.argv[2]
+demo = json.load(open("../shared/scenarios/paper-demo.json"))
+for norm in demo["norms"]:
+    urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
+body = {"directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}, "scene": demo["scenes"]["lab"]}
+open(f"{work}/body.json", "w").write(json.dumps(body))
+PY
+rss() { awk '/VmRSS/ {print $2}' "/proc/$server/status"; }
+
+echo "## Load: $requests requests at concurrency 128 (h2load --h1, REST)"
+start_rss=$(rss)
+h2load --h1 -n "$requests" -c 128 -m 1 -H 'content-type: application/json' -d "$work/body.json" \
+  "http://$addr/v1/clarify" >"$work/load.txt"
+python3 - "$work/load.txt" "$requests" <<'PY'
+import re, sys
+text, wanted = open(sys.argv[1]).read(), int(sys.argv[2])
+done = re.search(r"requests: (\d+) total, (\d+) started, (\d+) done, (\d+) succeeded, (\d+) failed, (\d+) errored, (\d+) timeout", text)
+codes = re.search(r"status codes: (\d+) 2xx, (\d+) 3xx, (\d+) 4xx, (\d+) 5xx", text)
+rate = re.search(r"finished in ([\d.]+\w+), ([\d.]+) req/s", text)
+total, _, _, ok, failed, errored, timeout = map(int, done.groups())
+c2, c3, c4, c5 = map(int, codes.groups())
+print(f"- {total} requests in {rate.group(1)} ({float(rate.group(2)):.0f} req/s): {c2} × 2xx, {c4} × 4xx, {c5} × 5xx; {failed} failed, {errored} errored, {timeout} timed out")
+for line in text.splitlines():
+    if line.startswith("time for request:"):
+        print(f"- {line.strip()} (min, max, mean, sd, ±sd)")
+if c2 != wanted or failed or errored or timeout:
+    sys.exit(f"soak: FAIL: not every request was answered 200:\n{text}")
+PY
+echo "- RSS before: $((start_rss / 1024)) MiB, after: $(( $(rss) / 1024 )) MiB"
+
+echo
+echo "## Soak: wrk at concurrency 32 for $soak s, RSS every 10 s"
+cat >"$work/post.lua" <<LUA
+wrk.method = "POST"
+wrk.headers["content-type"] = "application/json"
+local f = io.open("$work/body.json"); wrk.body = f:read("*a"); f:close()
+LUA
+wrk -t2 -c32 -d"${soak}s" -s "$work/post.lua" "http://$addr/v1/clarify" >"$work/wrk.txt" &
+load=$!
+: >"$work/rss"
+elapsed=0
+while kill -0 "$load" 2>/dev/null; do
+  sleep 10
+  elapsed=$((elapsed + 10))
+  kill -0 "$load" 2>/dev/null && echo "$elapsed $(rss)" >>"$work/rss"
+done
+wait "$load"
+python3 - "$work/rss" "$work/wrk.txt" <<'PY'
+import re, sys
+samples = [tuple(map(int, l.split())) for l in open(sys.argv[1]) if l.strip()]
+text = open(sys.argv[2]).read()
+rps = re.search(r"Requests/sec:\s+([\d.]+)", text).group(1)
+total = re.search(r"(\d+) requests in", text).group(1)
+errors = sum(int(n) for n in re.findall(r"(?:Non-2xx or 3xx responses|Socket errors: connect) (\d+)", text))
+print(f"- {total} requests, {float(rps):.0f} req/s, {errors} errors")
+print("- RSS (MiB) every 10 s: " + ", ".join(f"{kib / 1024:.1f}" for _, kib in samples))
+settled = [kib for t, kib in samples if t >= 60]
+if not settled:
+    sys.exit("soak: FAIL: too short to judge; run at least 70 s")
+base = settled[0]
+spread = max(abs(k - base) / base for k in settled)
+print(f"- after the first minute: min {min(settled) / 1024:.1f} MiB, max {max(settled) / 1024:.1f} MiB, largest drift from the 60 s sample {spread * 100:.1f}% (limit 10%)")
+if errors or spread > 0.10:
+    sys.exit("soak: FAIL: errors under load, or memory not flat")
+PY
