@@ -11,3 +11,4 @@ mod helpers;
 mod norms;
 mod openapi;
 mod paper_demo;
+mod playground;

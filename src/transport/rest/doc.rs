@@ -19,6 +19,7 @@ use utoipa::{Modify, OpenApi, ToSchema};
         (name = "norms", description = "The norms every decision is checked against; writes need the admin token when one is set"),
         (name = "actions", description = "The action library (verbs as data); writes need the admin token when one is set"),
         (name = "service", description = "Health"),
+        (name = "playground", description = "A page that drives this API from a browser, served at `/`"),
     ),
     modifiers(&AdminToken),
 )]
