@@ -14,3 +14,4 @@ mod limits;
 mod norms;
 mod openapi;
 mod paper_demo;
+mod playground;

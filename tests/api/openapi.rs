@@ -41,7 +41,10 @@ fn the_document_has_every_operation_of_the_contract() {
         [
             "DELETE /v1/actions/{name}",
             "DELETE /v1/norms/{id}",
+            "GET /",
             "GET /healthz",
+            "GET /playground/app.js",
+            "GET /playground/style.css",
             "GET /v1/actions",
             "GET /v1/actions/{name}",
             "GET /v1/audit",

@@ -19,6 +19,7 @@ use utoipa::{Modify, OpenApi, ToSchema};
         (name = "norms", description = "The norms every decision is checked against, their export and import, and the audit trail of every change. Writes need a write token (the admin token or a curator token) when any token is configured; reads need a token once reader tokens are configured"),
         (name = "actions", description = "The action library (verbs as data); tokens as for norms"),
         (name = "service", description = "Health"),
+        (name = "playground", description = "A page that drives this API from a browser, served at `/`"),
     ),
     modifiers(&BearerToken),
 )]

@@ -25,6 +25,7 @@ use crate::transport::AppState;
 use crate::transport::auth::Access;
 
 mod doc;
+mod playground;
 
 /// Every REST route, each registered with its OpenAPI operation: a route cannot be added here
 /// without documenting it, and `tests/api/openapi.rs` fails if anything is routed another way.
@@ -39,6 +40,9 @@ fn routes() -> OpenApiRouter<AppState> {
         .routes(routes!(check))
         .routes(routes!(list_actions))
         .routes(routes!(get_action, put_action, delete_action))
+        .routes(routes!(playground::index))
+        .routes(routes!(playground::script))
+        .routes(routes!(playground::style))
 }
 
 /// The OpenAPI 3.1 document of the REST API, as `openapi/openapi.json` holds it.
