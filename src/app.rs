@@ -15,7 +15,7 @@ use tower_http::trace::TraceLayer;
 use crate::api::RequestLimits;
 use crate::core::Core;
 use crate::error::Error;
-use crate::storage::{SqliteStore, StoreError};
+use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
 use crate::transport::{AppState, grpc, rest};
@@ -27,7 +27,7 @@ pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
 pub struct Config {
     /// `host:port`; port 0 picks a free one.
     pub listen: String,
-    /// `sqlite://path` (created if missing) or `sqlite::memory:`.
+    /// `sqlite://path` (created if missing), `sqlite::memory:`, or `postgres://user:pw@host/db`.
     pub database_url: String,
     /// Write token, labelled `admin` in the audit trail (`Debug` never shows it: see `auth`).
     pub admin_token: Option<Secret>,
@@ -97,9 +97,9 @@ impl Application {
         if config.admission.max_concurrent == 0 {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
-        let store = SqliteStore::open(&config.database_url).await?;
+        let store = storage::open(&config.database_url).await?;
         let state = AppState {
-            core: Arc::new(Core::new(Arc::new(store))),
+            core: Arc::new(Core::new(store)),
             tokens: Arc::new(tokens),
             max_body_bytes: config.max_body_bytes,
             limits: config.limits,

@@ -1,8 +1,19 @@
-//! The norm store: where norms live between requests and across processes.
+//! The norm store: where norms live between requests, across processes and across replicas.
 //!
-//! Owns: the `NormStore` trait the core depends on, and its SQLite implementation.
+//! Owns: the `NormStore` trait the core depends on, its SQLite (default) and PostgreSQL
+//! implementations, and choosing one from a database URL.
 //! Must not: validate norms (they arrive as valid `NormSpec`s) or compile them.
 
+/// The columns a norm row is read from, as a literal so that queries stay static strings
+/// (defined before the backends so that each can use it).
+macro_rules! norm_columns {
+    () => {
+        "id, revision, kind, term, when_json, context, severity, note, roles_json, exempt_roles_json"
+    };
+}
+
+mod postgres;
+mod sql;
 mod sqlite;
 
 use async_trait::async_trait;
@@ -10,7 +21,19 @@ use async_trait::async_trait;
 use crate::engine::action::ActionInput;
 use crate::engine::norms::{Norm, NormSpec};
 
+pub use postgres::PostgresStore;
+pub use sql::SqlStore;
 pub use sqlite::SqliteStore;
+
+/// Opens the store a database URL names: `postgres://` or `postgresql://` for PostgreSQL,
+/// anything else for SQLite. Migrations are applied before it returns.
+pub async fn open(url: &str) -> Result<std::sync::Arc<dyn NormStore>, StoreError> {
+    if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+        Ok(std::sync::Arc::new(PostgresStore::open(url).await?))
+    } else {
+        Ok(std::sync::Arc::new(SqliteStore::open(url).await?))
+    }
+}
 
 /// A failure of the store itself (I/O, lock, corruption), never of the caller's input.
 #[derive(Debug, thiserror::Error)]
