@@ -102,6 +102,8 @@ pub struct NormBody {
     pub state: Option<String>,
     pub when: Option<Vec<String>>,
     pub context: Option<String>,
+    /// 1 (least) to 5 (most); absent: 3.
+    #[schema(minimum = 1, maximum = 5)]
     pub severity: Option<i64>,
     pub note: Option<String>,
     /// When given, the norm applies only to speakers with one of these roles.
@@ -445,17 +447,21 @@ pub struct OptionsBody {
     pub style: Option<StyleBody>,
     /// Most readings a question names (2..=50, default 5).
     #[serde(default)]
+    #[schema(minimum = 2, maximum = 50)]
     pub max_spoken: Option<u64>,
     /// Most readings simulated (1..=100000, default 10000).
     #[serde(default)]
+    #[schema(minimum = 1, maximum = 100000)]
     pub max_readings: Option<u64>,
     /// Milliseconds the decision may take (1..=60000, default 2000); past it, what is not yet
     /// simulated is not offered and the answer says the deadline was hit.
     #[serde(default)]
+    #[schema(minimum = 1, maximum = 60000)]
     pub deadline_ms: Option<u64>,
     /// Confirm instead of assuming when the share of unacceptable readings is above this
     /// (0 ≤ ratio < 1). Absent: Algorithm 1's assumption.
     #[serde(default)]
+    #[schema(minimum = 0, exclusive_maximum = 1)]
     pub confirm_above_ratio: Option<f64>,
 }
 

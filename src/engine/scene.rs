@@ -75,9 +75,11 @@ pub struct Scene {
     reach_cache: Vec<OnceLock<bool>>,
     /// The first object in the way to each object, likewise computed at most once.
     clearance_cache: Vec<OnceLock<Option<usize>>>,
-    /// Bounding-volume hierarchy over the objects' world-frame boxes, built at the first
-    /// clearance query of a request (leaf index = object index; point objects have none).
-    bvh: OnceLock<Bvh>,
+    /// Bounding-volume hierarchy over the world-frame boxes of the objects that have a shape,
+    /// built at the first clearance query of a request, with the object index of each leaf.
+    /// Leaves are numbered 0.. in that order, never by object index: parry's builder assumes
+    /// leaves 0 and 1 when it is given one or two, and panics on a scene like [point, ball].
+    bvh: OnceLock<(Bvh, Vec<usize>)>,
 }
 
 impl Scene {
@@ -144,14 +146,15 @@ impl Scene {
         blocker.map(|i| &self.objects[i])
     }
 
-    fn bvh(&self) -> &Bvh {
+    fn bvh(&self) -> &(Bvh, Vec<usize>) {
         self.bvh.get_or_init(|| {
-            let leaves = self
+            let (objects, boxes): (Vec<usize>, Vec<Aabb>) = self
                 .objects
                 .iter()
                 .enumerate()
-                .filter_map(|(i, o)| parry_shape(o).map(|(pose, shape)| (i, shape.compute_aabb(&pose))));
-            Bvh::from_iter(BvhBuildStrategy::default(), leaves)
+                .filter_map(|(i, o)| parry_shape(o).map(|(pose, shape)| (i, shape.compute_aabb(&pose))))
+                .unzip();
+            (Bvh::from_leaves(BvhBuildStrategy::default(), &boxes), objects)
         })
     }
 
@@ -271,7 +274,8 @@ fn first_in_the_way(scene: &Scene, target: usize, size: f64) -> Option<usize> {
     let end = start + direction * reach_goal;
     let radius = Vector::repeat(size as Real);
     let swept = Aabb::new(start.inf(&end) - radius, start.sup(&end) + radius);
-    let mut candidates: Vec<usize> = scene.bvh().intersect_aabb(&swept).map(|i| i as usize).collect();
+    let (bvh, objects) = scene.bvh();
+    let mut candidates: Vec<usize> = bvh.intersect_aabb(&swept).map(|leaf| objects[leaf as usize]).collect();
     candidates.sort_unstable();
     candidates
         .into_iter()
@@ -392,6 +396,61 @@ mod tests {
         for (object, expected) in cases {
             let d = distance_to_shape(&object, &origin);
             assert!((d - expected).abs() < 1e-5, "{object:?}: {d} != {expected}");
+        }
+    }
+
+    /// Found by `fuzz/fuzz_targets/clarify_request.rs`: with one or two shaped objects not first
+    /// in the scene, building the BVH panicked inside parry.
+    #[test]
+    fn clearance_is_found_when_point_objects_come_before_the_shaped_ones() {
+        let agent = Agent {
+            id: "self".into(),
+            position: [0.0, 0.0, 0.0],
+            reach: 2.0,
+            gripper_aperture: None,
+            payload: None,
+            gripper_size: Some(0.05),
+        };
+        let named = |id: &str, position: [f64; 3], shape: Option<Shape>| Object {
+            id: id.into(),
+            ..object(position, shape, None)
+        };
+        let ball = || Some(Shape::Ball { radius: 0.1 });
+        let cases: Vec<(Vec<Object>, &str, Option<&str>)> = vec![
+            (
+                vec![named("p", [0.0, 1.0, 0.0], None), named("b", [1.0, 0.0, 0.0], ball())],
+                "b",
+                None,
+            ),
+            (
+                vec![named("p", [0.0, 1.0, 0.0], None), named("b", [1.0, 0.0, 0.0], ball())],
+                "p",
+                None,
+            ),
+            (
+                vec![
+                    named("p", [0.0, 1.0, 0.0], None),
+                    named("wall", [0.5, 0.0, 0.0], ball()),
+                    named("b", [1.0, 0.0, 0.0], ball()),
+                ],
+                "b",
+                Some("wall"),
+            ),
+            (
+                vec![
+                    named("p", [0.0, 1.0, 0.0], None),
+                    named("q", [0.0, -1.0, 0.0], None),
+                    named("wall", [0.5, 0.0, 0.0], ball()),
+                    named("b", [1.0, 0.0, 0.0], None),
+                ],
+                "b",
+                Some("wall"),
+            ),
+        ];
+        for (objects, target, expected) in cases {
+            let scene = Scene::new(agent.clone(), objects, vec![]);
+            let blocker = scene.blocked_by(target).map(|o| o.id.as_str());
+            assert_eq!(blocker, expected, "reaching for {target}");
         }
     }
 
