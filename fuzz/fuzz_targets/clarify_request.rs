@@ -57,6 +57,7 @@ static NORMS: LazyLock<CompiledNorms> = LazyLock::new(|| {
         .enumerate()
         .map(|(i, input)| Norm {
             id: i as i64 + 1,
+            revision: 0,
             spec: input.validate().expect("the fuzzer's own norms are valid"),
         })
         .collect();
