@@ -136,7 +136,12 @@ impl Tx for SqliteTx {
 
     async fn delete_norms(&mut self, id: Option<i64>) -> Result<(), StoreError> {
         match id {
-            Some(id) => sqlx::query("DELETE FROM norms WHERE id = ?").bind(id).execute(&mut *self.0).await?,
+            Some(id) => {
+                sqlx::query("DELETE FROM norms WHERE id = ?")
+                    .bind(id)
+                    .execute(&mut *self.0)
+                    .await?
+            }
             None => sqlx::query("DELETE FROM norms").execute(&mut *self.0).await?,
         };
         Ok(())

@@ -57,7 +57,8 @@ async fn every_acknowledged_write_survives_sigkill_at_random_moments() {
     let mut killed_mid_stream = 0;
     for iteration in 0..iterations {
         let (mut child, addr) = start(&db);
-        check_all_present(&client, &addr, &acknowledged.lock().unwrap().clone()).await;
+        let so_far = acknowledged.lock().unwrap().clone();
+        check_all_present(&client, &addr, &so_far).await;
 
         // Four writers stream norms until the process dies under them.
         let mut writers = Vec::new();
@@ -93,7 +94,7 @@ async fn every_acknowledged_write_survives_sigkill_at_random_moments() {
         }
     }
     let (mut child, addr) = start(&db);
-    let acknowledged = acknowledged.lock().unwrap().clone();
+    let acknowledged: Vec<(i64, String)> = acknowledged.lock().unwrap().clone();
     check_all_present(&client, &addr, &acknowledged).await;
     child.kill().unwrap();
     child.wait().unwrap();

@@ -1,6 +1,6 @@
 //! When the norms cannot be read (a table dropped, a row corrupt, the file deleted, replaced or not
-//! a database), clarify answers 503 and never complies or assumes; writes refused on a lock leave
-//! nothing behind.
+//! a database; a PostgreSQL database gone), clarify answers 503 and never complies or assumes;
+//! writes refused on a lock leave nothing behind.
 
 use reqwest::StatusCode;
 use serde_json::json;
@@ -168,4 +168,25 @@ async fn the_service_refuses_to_start_on_a_file_that_is_not_a_database() {
         .err()
         .expect("a corrupt file must not start a service that would decide without norms");
     assert!(error.to_string().contains("not a database"), "{error}");
+}
+
+/// PostgreSQL down (here: the database dropped and every connection to it terminated): clarify
+/// answers 503 rather than deciding without norms.
+#[tokio::test]
+async fn a_postgresql_database_gone_fails_closed() {
+    let database = crate::backends::PgDatabase::create().await;
+    let url = database.url.clone();
+    let app = crate::helpers::spawn_tweaked(move |c| c.database_url = url).await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    drop(database);
+    let problem = assert_problem(
+        app.post("/v1/clarify", &get_vase()).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert!(problem.get("decision").is_none());
+    assert_problem(app.get("/healthz").await, StatusCode::SERVICE_UNAVAILABLE, None).await;
 }

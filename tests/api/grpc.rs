@@ -439,19 +439,32 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
     let app = spawn_app().await;
     let mut norms = NormsClient::new(channel(&app).await);
     let created = norms
-        .create_norm(norm_request(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"})))
+        .create_norm(norm_request(
+            &json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}),
+        ))
         .await
         .unwrap()
         .into_inner();
-    let rest: Value = app.get(&format!("/v1/norms/{}", created.id)).await.json().await.unwrap();
+    let rest: Value = app
+        .get(&format!("/v1/norms/{}", created.id))
+        .await
+        .json()
+        .await
+        .unwrap();
     assert_eq!(rest["revision"].as_i64(), Some(created.revision));
 
     let replace = |expected: i64| pb::ReplaceNormRequest {
         id: created.id,
-        norm: Some(norm_request(&json!({"kind": "forbidden_state", "state": "did(self,get(object4))"}))),
+        norm: Some(norm_request(
+            &json!({"kind": "forbidden_state", "state": "did(self,get(object4))"}),
+        )),
         expected_revision: Some(expected),
     };
-    let replaced = norms.replace_norm(replace(created.revision)).await.unwrap().into_inner();
+    let replaced = norms
+        .replace_norm(replace(created.revision))
+        .await
+        .unwrap()
+        .into_inner();
     assert!(replaced.revision > created.revision);
     assert_eq!(replaced.state.as_deref(), Some("did(self,get(object4))"));
     let stale = norms.replace_norm(replace(created.revision)).await.unwrap_err();
@@ -465,7 +478,11 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
         .unwrap_err();
     assert_eq!(stale_delete.code(), Code::FailedPrecondition);
 
-    let exported = norms.export_norms(pb::ExportNormsRequest {}).await.unwrap().into_inner();
+    let exported = norms
+        .export_norms(pb::ExportNormsRequest {})
+        .await
+        .unwrap()
+        .into_inner();
     let rest_set: Value = app.get("/v1/norm-set").await.json().await.unwrap();
     assert_eq!(rest_set["version"].as_i64(), Some(exported.version));
     assert_eq!(exported.norms, vec![replaced.clone()]);
@@ -500,7 +517,10 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
     assert_eq!(audit.next_after, audit.entries[2].id);
     assert!(audit.entries.iter().all(|e| e.actor == "anonymous"));
     let bad_limit = norms
-        .list_audit(pb::ListAuditRequest { after: 0, limit: Some(0) })
+        .list_audit(pb::ListAuditRequest {
+            after: 0,
+            limit: Some(0),
+        })
         .await
         .unwrap_err();
     assert_eq!(bad_limit.code(), Code::InvalidArgument);

@@ -2,6 +2,7 @@
 
 mod actions;
 mod auth;
+mod backends;
 mod beyond;
 mod binary;
 mod crash;
@@ -15,3 +16,4 @@ mod norms;
 mod openapi;
 mod paper_demo;
 mod playground;
+mod replicas;

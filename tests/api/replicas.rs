@@ -1,0 +1,112 @@
+//! Two `scruple serve` processes on loopback, one PostgreSQL database: a norm changed through
+//! replica A is enforced by replica B on its very next request, also after B restarts, and the
+//! other way round.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+use reqwest::StatusCode;
+use serde_json::{Value, json};
+
+use crate::backends::PgDatabase;
+use crate::helpers::get_vase;
+
+struct Replica {
+    child: Child,
+    base: String,
+}
+
+impl Replica {
+    fn start(database_url: &str) -> Replica {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
+            .args(["serve", "--listen", "127.0.0.1:0", "--database-url", database_url])
+            .env("RUST_LOG", "error")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("the binary starts");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let addr = line
+            .trim()
+            .strip_prefix("listening on ")
+            .unwrap_or_else(|| panic!("a replica failed to start: {line:?}"));
+        Replica {
+            base: format!("http://{addr}"),
+            child,
+        }
+    }
+
+    async fn decide(&self, client: &reqwest::Client) -> Value {
+        let response = client
+            .post(format!("{}/v1/clarify", self.base))
+            .json(&get_vase())
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(response.status(), StatusCode::OK);
+        response.json().await.unwrap()
+    }
+
+    fn stop(mut self) {
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_change_through_one_replica_is_enforced_by_the_other_on_its_next_request() {
+    let database = PgDatabase::create().await;
+    let a = Replica::start(&database.url);
+    let b = Replica::start(&database.url);
+    let client = reqwest::Client::new();
+    // Warm B's cache under the empty norm set: both vases may be got, so it asks.
+    assert_eq!(b.decide(&client).await["decision"], "ask");
+
+    let norm = json!({"kind": "forbidden_state", "state": "did(self,get(object3))"});
+    let created = client
+        .post(format!("{}/v1/norms", a.base))
+        .json(&norm)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(created.status(), StatusCode::CREATED);
+    let id = created.json::<Value>().await.unwrap()["id"].as_i64().unwrap();
+    // No wait, no notification: B's very next request reads the new version.
+    let decided = b.decide(&client).await;
+    assert_eq!(decided["decision"], "assume", "{decided}");
+    assert_eq!(decided["goal"], "did(self,get(object4))");
+
+    // B restarts and still enforces it; a delete through B reaches A at once.
+    b.stop();
+    let b = Replica::start(&database.url);
+    assert_eq!(b.decide(&client).await["decision"], "assume");
+    let deleted = client.delete(format!("{}/v1/norms/{id}", b.base)).send().await.unwrap();
+    assert_eq!(deleted.status(), StatusCode::NO_CONTENT);
+    assert_eq!(a.decide(&client).await["decision"], "ask");
+    // Both list the same set and audit trail.
+    let audit_a: Value = client
+        .get(format!("{}/v1/audit", a.base))
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    let audit_b: Value = client
+        .get(format!("{}/v1/audit", b.base))
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(audit_a, audit_b);
+    assert_eq!(audit_a["entries"].as_array().unwrap().len(), 2);
+    a.stop();
+    b.stop();
+}
