@@ -10,15 +10,18 @@ use std::sync::Arc;
 use axum::serve::ListenerExt;
 use tokio::net::TcpListener;
 
+use axum::http::HeaderName;
+use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetRequestIdLayer};
 use tower_http::trace::TraceLayer;
 
 use crate::api::RequestLimits;
 use crate::core::Core;
 use crate::error::Error;
+use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
-use crate::transport::{AppState, grpc, rest};
+use crate::transport::{AppState, grpc, observe, rest};
 
 /// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
 pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
@@ -38,6 +41,8 @@ pub struct Config {
     pub max_body_bytes: usize,
     pub limits: RequestLimits,
     pub admission: AdmissionConfig,
+    /// Log the human's words, the speaker and the robot's answer with each decision (debug).
+    pub log_utterances: bool,
 }
 
 impl Config {
@@ -52,6 +57,7 @@ impl Config {
             max_body_bytes: DEFAULT_MAX_BODY_BYTES,
             limits: RequestLimits::default(),
             admission: AdmissionConfig::default(),
+            log_utterances: false,
         }
     }
 }
@@ -98,11 +104,14 @@ impl Application {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
         let store = storage::open(&config.database_url).await?;
+        let metrics = Arc::new(Metrics::new());
         let state = AppState {
-            core: Arc::new(Core::new(store)),
+            core: Arc::new(Core::new(store, metrics.clone())),
             tokens: Arc::new(tokens),
             max_body_bytes: config.max_body_bytes,
             limits: config.limits,
+            metrics: metrics.clone(),
+            log_utterances: config.log_utterances,
         };
         let listener = TcpListener::bind(&config.listen)
             .await
@@ -112,7 +121,7 @@ impl Application {
             })?;
         Ok(Application {
             listener,
-            router: one_port(state, Admission::new(config.admission)).await?,
+            router: one_port(state, Admission::new(config.admission, metrics)).await?,
         })
     }
 
@@ -138,13 +147,20 @@ impl Application {
 /// REST and gRPC on one router. gRPC's routes bring a fallback that answers any path with
 /// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
-/// Admission wraps everything but the trace layer, so a refused request is still traced.
+/// Layers, outermost first: a request id (the caller's `x-request-id`, or a fresh UUID) set and
+/// echoed on the response; the trace span carrying it; metrics; admission. A refused request is
+/// still traced and counted.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
+    let metrics = state.metrics.clone();
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
+    let request_id = HeaderName::from_static(observe::REQUEST_ID);
     Ok(rest::router(state)
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
         .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
-        .layer(TraceLayer::new_for_http()))
+        .layer(axum::middleware::from_fn_with_state(metrics, observe::observe))
+        .layer(TraceLayer::new_for_http().make_span_with(observe::span))
+        .layer(PropagateRequestIdLayer::new(request_id.clone()))
+        .layer(SetRequestIdLayer::new(request_id, MakeRequestUuid)))
 }

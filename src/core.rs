@@ -14,6 +14,7 @@ use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
 use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
 use crate::error::Error;
+use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
 /// Requests with at most this many readings are decided on the calling task (see `clarify`).
@@ -21,6 +22,7 @@ const INLINE_READINGS: u128 = 16;
 
 pub struct Core {
     store: Arc<dyn NormStore>,
+    metrics: Arc<Metrics>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
     /// The last action library loaded, likewise tagged.
@@ -46,9 +48,10 @@ fn cached<T>(slot: &RwLock<Option<Arc<T>>>, version: i64, of: impl Fn(&T) -> i64
 }
 
 impl Core {
-    pub fn new(store: Arc<dyn NormStore>) -> Core {
+    pub fn new(store: Arc<dyn NormStore>, metrics: Arc<Metrics>) -> Core {
         Core {
             store,
+            metrics,
             compiled: RwLock::new(None),
             library: RwLock::new(None),
         }
@@ -60,8 +63,12 @@ impl Core {
         let unavailable = |e: crate::storage::StoreError| Error::NormsUnavailable(e.0);
         let versions = self.store.versions().await.map_err(unavailable)?;
         let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
-            Some(norms) => norms,
+            Some(norms) => {
+                self.metrics.cache(Cache::Norms, Outcome::Hit);
+                norms
+            }
             None => {
+                self.metrics.cache(Cache::Norms, Outcome::Refresh);
                 let (version, norms) = self.store.load().await.map_err(unavailable)?;
                 let fresh = Arc::new(CompiledNorms::compile(version, norms));
                 keep_newer(&self.compiled, &fresh, |c| c.version)?;
@@ -69,8 +76,12 @@ impl Core {
             }
         };
         let library = match cached(&self.library, versions.actions, |l| l.version)? {
-            Some(library) => library,
+            Some(library) => {
+                self.metrics.cache(Cache::Library, Outcome::Hit);
+                library
+            }
             None => {
+                self.metrics.cache(Cache::Library, Outcome::Refresh);
                 let (version, verbs) = self.store.load_actions().await.map_err(unavailable)?;
                 let fresh = Library::from_written(version, &verbs).map_err(|(name, e)| {
                     Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
@@ -103,6 +114,11 @@ impl Core {
                 .await
                 .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??
         };
+        let kind = DecisionLabels {
+            kind: decision.kind.as_str().to_owned(),
+        };
+        self.metrics.decisions.get_or_create(&kind).inc();
+        self.metrics.readings.observe(decision.interpretations.len() as f64);
         Ok(decision)
     }
 

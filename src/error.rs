@@ -163,7 +163,9 @@ impl Error {
             Error::Internal(_) | Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => {
                 tracing::error!(error = %self, "request failed")
             }
-            _ => tracing::debug!(error = %self, "request rejected"),
+            // The detail may echo the caller's input (a speaker id, a word): the type and the
+            // field say enough to find the request by its id.
+            _ => tracing::debug!(problem = self.codes().slug, field = self.field(), "request rejected"),
         }
     }
 

@@ -95,6 +95,31 @@ struct ServeArgs {
     /// Longest wait for a turn, milliseconds; then 503 with Retry-After.
     #[arg(long, env = "SCRUPLE_QUEUE_TIMEOUT_MS", default_value_t = DEFAULT_QUEUE_TIMEOUT_MS)]
     queue_timeout_ms: u64,
+    /// Log lines as text for people or JSON for collectors (one object per line, with the
+    /// request's span and its request id). Levels come from RUST_LOG (default info).
+    #[arg(long, env = "SCRUPLE_LOG_FORMAT", value_enum, default_value_t = LogFormat::Text)]
+    log_format: LogFormat,
+    /// Also log the human's words, the speaker and the robot's answer with each decision (at
+    /// debug). Off by default: they are personal data.
+    #[arg(long, env = "SCRUPLE_LOG_UTTERANCES")]
+    log_utterances: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum LogFormat {
+    Text,
+    Json,
+}
+
+fn init_logs(format: LogFormat) {
+    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info"));
+    let logs = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr);
+    match format {
+        LogFormat::Text => logs.init(),
+        LogFormat::Json => logs.json().with_current_span(true).with_span_list(false).init(),
+    }
 }
 
 impl ServeArgs {
@@ -126,6 +151,7 @@ impl ServeArgs {
                 max_queued: self.max_queued,
                 queue_timeout: Duration::from_millis(self.queue_timeout_ms),
             },
+            log_utterances: self.log_utterances,
         })
     }
 }
@@ -156,11 +182,11 @@ async fn shutdown_signal() {
 
 #[tokio::main]
 async fn main() -> ExitCode {
-    tracing_subscriber::fmt()
-        .with_env_filter(EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")))
-        .with_writer(std::io::stderr)
-        .init();
     let Cli { command } = Cli::parse();
+    init_logs(match &command {
+        Command::Serve(args) => args.log_format,
+        Command::Openapi => LogFormat::Text,
+    });
     match command {
         Command::Openapi => match scruple::transport::rest::openapi().to_pretty_json() {
             Ok(text) => {

@@ -43,6 +43,7 @@ impl Default for AdmissionConfig {
 }
 
 pub struct Admission {
+    metrics: Arc<crate::metrics::Metrics>,
     permits: Semaphore,
     waiting: AtomicUsize,
     config: AdmissionConfig,
@@ -52,8 +53,9 @@ pub struct Admission {
 const RETRY_AFTER_S: u64 = 1;
 
 impl Admission {
-    pub fn new(config: AdmissionConfig) -> Arc<Admission> {
+    pub fn new(config: AdmissionConfig, metrics: Arc<crate::metrics::Metrics>) -> Arc<Admission> {
         Arc::new(Admission {
+            metrics,
             permits: Semaphore::new(config.max_concurrent.max(1)),
             waiting: AtomicUsize::new(0),
             config,
@@ -61,10 +63,10 @@ impl Admission {
     }
 }
 
-/// Probes answer whatever the load: a liveness check that queues behind work would restart a
-/// healthy, busy replica.
+/// Probes (and scrapes) answer whatever the load: a liveness check that queues behind work would
+/// restart a healthy, busy replica, and an overload is when metrics matter most.
 fn is_probe(path: &str) -> bool {
-    path == "/healthz" || path.starts_with("/grpc.health.v1.Health/")
+    path == "/healthz" || path == "/metrics" || path.starts_with("/grpc.health.v1.Health/")
 }
 
 fn is_grpc(request: &Request) -> bool {
@@ -94,12 +96,12 @@ pub async fn admit(State(admission): State<Arc<Admission>>, request: Request, ne
             let queued = admission.waiting.fetch_add(1, Ordering::AcqRel);
             let _waiting = Waiting(&admission.waiting);
             if queued >= admission.config.max_queued {
-                return refuse(&request);
+                return refuse(&admission, &request);
             }
             match tokio::time::timeout(admission.config.queue_timeout, admission.permits.acquire()).await {
                 Ok(Ok(permit)) => permit,
                 // Timed out, or the semaphore closed (never: it is not closed while serving).
-                Ok(Err(_)) | Err(_) => return refuse(&request),
+                Ok(Err(_)) | Err(_) => return refuse(&admission, &request),
             }
         }
     };
@@ -108,7 +110,8 @@ pub async fn admit(State(admission): State<Arc<Admission>>, request: Request, ne
     response
 }
 
-fn refuse(request: &Request) -> Response {
+fn refuse(admission: &Admission, request: &Request) -> Response {
+    admission.metrics.overloaded.inc();
     let error = Error::Overloaded {
         retry_after_s: RETRY_AFTER_S,
     };

@@ -6,6 +6,7 @@
 pub mod admission;
 pub mod auth;
 pub mod grpc;
+pub mod observe;
 pub mod rest;
 
 use std::sync::Arc;
@@ -23,4 +24,8 @@ pub struct AppState {
     pub max_body_bytes: usize,
     /// What one clarify or check request may ask.
     pub limits: RequestLimits,
+    pub metrics: Arc<crate::metrics::Metrics>,
+    /// Whether the human's words, the speaker and the robot's answer may be logged (off by
+    /// default: they are personal data).
+    pub log_utterances: bool,
 }

@@ -13,6 +13,7 @@ mod helpers;
 mod integrity;
 mod limits;
 mod norms;
+mod observability;
 mod openapi;
 mod paper_demo;
 mod playground;

@@ -43,6 +43,7 @@ fn the_document_has_every_operation_of_the_contract() {
             "DELETE /v1/norms/{id}",
             "GET /",
             "GET /healthz",
+            "GET /metrics",
             "GET /playground/app.js",
             "GET /playground/style.css",
             "GET /v1/actions",

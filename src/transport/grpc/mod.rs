@@ -62,7 +62,9 @@ impl Clarifier for ClarifierService {
         let body = ClarifyBody::try_from(request.into_inner())?;
         let mut input = ClarifyInput::from_body(body, &self.state.limits)?;
         let text = input.text.take();
+        let speaker = self.state.log_utterances.then(|| input.request.speaker.clone());
         let decision = self.state.core.clarify(input).await?;
+        crate::transport::observe::log_decision(&self.state, &decision, text.as_deref(), speaker.as_deref());
         Ok(Response::new(DecisionDto::new(&decision, text).into()))
     }
 

@@ -32,6 +32,7 @@ mod playground;
 fn routes() -> OpenApiRouter<AppState> {
     OpenApiRouter::with_openapi(doc::ApiDoc::openapi())
         .routes(routes!(healthz))
+        .routes(routes!(metrics))
         .routes(routes!(list_norms, create_norm))
         .routes(routes!(get_norm, replace_norm, delete_norm))
         .routes(routes!(export_norms, import_norms))
@@ -170,6 +171,17 @@ fn norm_id(text: &str) -> Result<i64, Error> {
 async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>, Error> {
     app.core.ready().await?;
     Ok(Json(serde_json::json!({"status": "ok"})))
+}
+
+#[utoipa::path(get, path = "/metrics", tag = "service",
+    summary = "Prometheus metrics (OpenMetrics text)",
+    description = "Requests by route template and status, latency histograms, decisions by kind, readings simulated per decision, norm-cache hits and refreshes, admission refusals. Never queued behind load.",
+    responses(
+        (status = 200, description = "The metrics", body = String, content_type = "application/openmetrics-text"),
+    ))]
+async fn metrics(State(app): State<AppState>) -> Response {
+    let content_type = HeaderValue::from_static("application/openmetrics-text; version=1.0.0; charset=utf-8");
+    ([(header::CONTENT_TYPE, content_type)], app.metrics.render()).into_response()
 }
 
 #[utoipa::path(get, path = "/v1/norms", tag = "norms",
@@ -410,7 +422,9 @@ async fn clarify(
 ) -> Result<Json<DecisionDto>, Error> {
     let mut input = ClarifyInput::from_body(body, &app.limits)?;
     let text = input.text.take();
+    let speaker = app.log_utterances.then(|| input.request.speaker.clone());
     let decision = app.core.clarify(input).await?;
+    crate::transport::observe::log_decision(&app, &decision, text.as_deref(), speaker.as_deref());
     Ok(Json(DecisionDto::new(&decision, text)))
 }
 

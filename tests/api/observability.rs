@@ -1,0 +1,178 @@
+//! What an operator sees: Prometheus metrics at `/metrics`, a request id on every response (the
+//! caller's, or a fresh one), and JSON logs that carry it but keep the human's words and the
+//! speaker out unless `--log-utterances` is on.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+use reqwest::StatusCode;
+use serde_json::{Value, json};
+
+use crate::helpers::{get_vase, spawn_app};
+
+/// The value of the sample with exactly these labels, if the exposition has it.
+fn sample(text: &str, name_and_labels: &str) -> Option<f64> {
+    text.lines()
+        .find_map(|line| line.strip_prefix(name_and_labels)?.strip_prefix(' ')?.parse().ok())
+}
+
+#[tokio::test]
+async fn metrics_count_requests_decisions_readings_and_cache_use() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    for _ in 0..3 {
+        assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    }
+    assert_eq!(app.get("/v1/norms/999").await.status(), StatusCode::NOT_FOUND);
+    assert_eq!(app.get("/nowhere/42").await.status(), StatusCode::NOT_FOUND);
+
+    let response = app.get("/metrics").await;
+    assert_eq!(response.status(), StatusCode::OK);
+    let content_type = response.headers()["content-type"].to_str().unwrap().to_owned();
+    assert!(
+        content_type.starts_with("application/openmetrics-text"),
+        "{content_type}"
+    );
+    let text = response.text().await.unwrap();
+    let value = |s: &str| sample(&text, s).unwrap_or_else(|| panic!("no sample {s} in\n{text}"));
+    assert_eq!(
+        value(r#"scruple_http_requests_total{route="/v1/clarify",method="POST",status="200"}"#),
+        3.0
+    );
+    assert_eq!(
+        value(r#"scruple_http_requests_total{route="/v1/norms",method="POST",status="201"}"#),
+        1.0
+    );
+    // A route template, never the raw path; an unknown path is one label, whatever it was.
+    assert_eq!(
+        value(r#"scruple_http_requests_total{route="/v1/norms/{id}",method="GET",status="404"}"#),
+        1.0
+    );
+    assert_eq!(
+        value(r#"scruple_http_requests_total{route="unmatched",method="GET",status="404"}"#),
+        1.0
+    );
+    assert!(!text.contains("/v1/norms/999") && !text.contains("nowhere"));
+    assert_eq!(
+        value(r#"scruple_http_request_duration_seconds_count{route="/v1/clarify",method="POST"}"#),
+        3.0
+    );
+    assert_eq!(value(r#"scruple_decisions_total{kind="assume"}"#), 3.0);
+    assert_eq!(value("scruple_readings_simulated_count"), 3.0);
+    assert_eq!(
+        value("scruple_readings_simulated_sum"),
+        6.0,
+        "two vases, two readings each time"
+    );
+    // The first decision compiles the norm set; the next two reuse it.
+    assert_eq!(
+        value(r#"scruple_knowledge_cache_total{cache="norms",outcome="refresh"}"#),
+        1.0
+    );
+    assert_eq!(
+        value(r#"scruple_knowledge_cache_total{cache="norms",outcome="hit"}"#),
+        2.0
+    );
+    assert_eq!(value("scruple_overloaded_total"), 0.0);
+    assert!(text.trim_end().ends_with("# EOF"));
+}
+
+#[tokio::test]
+async fn every_response_carries_a_request_id_and_a_callers_id_is_echoed() {
+    let app = spawn_app().await;
+    let fresh = app.post("/v1/clarify", &get_vase()).await;
+    let id = fresh.headers()["x-request-id"].to_str().unwrap().to_owned();
+    assert_eq!(id.len(), 36, "a UUID: {id}");
+    let other = app.get("/healthz").await;
+    assert_ne!(other.headers()["x-request-id"].to_str().unwrap(), id);
+    let echoed = app
+        .client
+        .post(app.url("/v1/clarify"))
+        .header("x-request-id", "robot-7-utterance-42")
+        .json(&get_vase())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(echoed.headers()["x-request-id"], "robot-7-utterance-42");
+    // Errors carry it too.
+    let problem = app.get("/v1/norms/abc").await;
+    assert!(problem.headers().contains_key("x-request-id"));
+}
+
+/// Runs the binary with JSON logs at debug, sends one spoken directive, returns the log lines
+/// and the request id the answer carried.
+async fn json_log_of_one_decision(extra: &[&str]) -> (Vec<Value>, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.jsonl");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
+        .args([
+            "serve",
+            "--listen",
+            "127.0.0.1:0",
+            "--log-format",
+            "json",
+            "--database-url",
+        ])
+        .arg(format!("sqlite://{}", dir.path().join("db").display()))
+        .args(extra)
+        .env("RUST_LOG", "scruple=debug,tower_http=debug")
+        .stdout(Stdio::piped())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let mut body = get_vase();
+    body["speaker"] = json!("dr_whistler");
+    body["directive"]["text"] = json!("Get the vase, please.");
+    let response = reqwest::Client::new()
+        .post(format!("http://{addr}/v1/clarify"))
+        .json(&body)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    let id = response.headers()["x-request-id"].to_str().unwrap().to_owned();
+    let _ = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
+    child.wait().unwrap();
+    let lines = std::fs::read_to_string(&log)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("not a JSON log line ({e}): {l}")))
+        .collect();
+    (lines, id)
+}
+
+#[tokio::test]
+async fn json_logs_carry_the_request_id_and_keep_words_and_speakers_out() {
+    let (lines, id) = json_log_of_one_decision(&[]).await;
+    let decided = lines
+        .iter()
+        .find(|l| l["fields"]["message"] == "decided")
+        .unwrap_or_else(|| panic!("no decision line in {lines:?}"));
+    assert_eq!(decided["span"]["request_id"], id.as_str());
+    assert_eq!(decided["fields"]["decision"], "ask");
+    let all = serde_json::to_string(&lines).unwrap();
+    assert!(
+        !all.contains("Get the vase") && !all.contains("dr_whistler"),
+        "personal data in the log"
+    );
+}
+
+#[tokio::test]
+async fn log_utterances_puts_the_words_and_the_speaker_in_the_decision_line() {
+    let (lines, _) = json_log_of_one_decision(&["--log-utterances"]).await;
+    let decided = lines.iter().find(|l| l["fields"]["message"] == "decided").unwrap();
+    assert_eq!(decided["fields"]["text"], "Get the vase, please.");
+    assert_eq!(decided["fields"]["speaker"], "dr_whistler");
+    assert!(
+        decided["fields"]["utterance"]
+            .as_str()
+            .unwrap()
+            .starts_with("Do you mean")
+    );
+}
