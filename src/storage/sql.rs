@@ -15,13 +15,32 @@ use crate::engine::term::Term;
 
 /// Which set's version a write moves.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Set {
+pub enum Set {
     Norms,
     Actions,
 }
 
+impl Set {
+    /// The statements that read and move the set's version: the same in both dialects.
+    pub(super) fn sql(self) -> (&'static str, &'static str) {
+        match self {
+            Set::Norms => (
+                "SELECT version FROM norm_set WHERE id = 1",
+                "UPDATE norm_set SET version = version + 1 WHERE id = 1 RETURNING version",
+            ),
+            Set::Actions => (
+                "SELECT version FROM action_set WHERE id = 1",
+                "UPDATE action_set SET version = version + 1 WHERE id = 1 RETURNING version",
+            ),
+        }
+    }
+}
+
+/// Every verb by name: the same in both dialects.
+pub(super) const ACTIONS_SQL: &str = "SELECT name, definition FROM actions ORDER BY name";
+
 /// What an audit entry records of one change.
-pub(super) struct Change<'a> {
+pub struct Change<'a> {
     pub actor: &'a str,
     pub subject: Subject,
     pub operation: Operation,
@@ -172,7 +191,7 @@ fn action_json(definition: &ActionInput) -> serde_json::Value {
 /// One backend's transaction: reads see one snapshot; a write transaction holds the store's
 /// single write lock from its start, so what it reads is what it writes over.
 #[async_trait]
-pub(super) trait Tx: Send + Sized {
+pub trait Tx: Send + Sized {
     async fn version(&mut self, set: Set) -> Result<i64, StoreError>;
     /// Moves a set's version and returns the new one.
     async fn bump(&mut self, set: Set) -> Result<i64, StoreError>;
@@ -196,7 +215,7 @@ pub(super) trait Tx: Send + Sized {
 
 /// A SQL database the store runs on.
 #[async_trait]
-pub(super) trait Backend: Send + Sync + 'static {
+pub trait Backend: Send + Sync + 'static {
     type Tx: Tx;
     /// Checks that the store is still the one opened (see the SQLite file check).
     fn still_there(&self) -> Result<(), StoreError>;
@@ -219,6 +238,22 @@ pub struct SqlStore<B> {
 async fn abandon<T: Tx, R>(tx: T, outcome: Write<R>) -> Result<Write<R>, StoreError> {
     tx.rollback().await?;
     Ok(outcome)
+}
+
+impl<B: Backend> SqlStore<B> {
+    /// Takes the write lock and reads norm `id` under it: the norm, or why the conditional
+    /// write cannot go ahead (then the transaction is already rolled back).
+    async fn locked<R>(&self, id: i64, expected: Option<i64>) -> Result<Result<(B::Tx, Norm), Write<R>>, StoreError> {
+        let mut tx = self.backend.write().await?;
+        let Some(before) = tx.norm(id).await? else {
+            return abandon(tx, Write::Missing).await.map(Err);
+        };
+        if expected.is_some_and(|e| e != before.revision) {
+            let current = before.revision;
+            return abandon(tx, Write::Stale { current }).await.map(Err);
+        }
+        Ok(Ok((tx, before)))
+    }
 }
 
 #[async_trait]
@@ -275,14 +310,10 @@ impl<B: Backend> NormStore for SqlStore<B> {
         expected: Option<i64>,
         actor: &str,
     ) -> Result<Write<Norm>, StoreError> {
-        let mut tx = self.backend.write().await?;
-        let Some(before) = tx.norm(id).await? else {
-            return abandon(tx, Write::Missing).await;
+        let (mut tx, before) = match self.locked(id, expected).await? {
+            Ok(locked) => locked,
+            Err(refused) => return Ok(refused),
         };
-        if expected.is_some_and(|e| e != before.revision) {
-            let current = before.revision;
-            return abandon(tx, Write::Stale { current }).await;
-        }
         let version = tx.bump(Set::Norms).await?;
         tx.upsert_norm(Some(id), spec, version).await?;
         let norm = Norm {
@@ -305,14 +336,10 @@ impl<B: Backend> NormStore for SqlStore<B> {
     }
 
     async fn delete(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<Write<()>, StoreError> {
-        let mut tx = self.backend.write().await?;
-        let Some(before) = tx.norm(id).await? else {
-            return abandon(tx, Write::Missing).await;
+        let (mut tx, before) = match self.locked(id, expected).await? {
+            Ok(locked) => locked,
+            Err(refused) => return Ok(refused),
         };
-        if expected.is_some_and(|e| e != before.revision) {
-            let current = before.revision;
-            return abandon(tx, Write::Stale { current }).await;
-        }
         tx.delete_norms(Some(id)).await?;
         let version = tx.bump(Set::Norms).await?;
         tx.record(Change {

@@ -12,7 +12,7 @@ use async_trait::async_trait;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{Sqlite, Transaction};
 
-use super::sql::{AuditRow, Backend, Change, NormColumns, NormRow, Set, SqlStore, Tx, action_from_row};
+use super::sql::{ACTIONS_SQL, AuditRow, Backend, Change, NormColumns, NormRow, Set, SqlStore, Tx, action_from_row};
 use super::{AuditEntry, StoreError, StoredAction, Versions};
 use crate::engine::norms::{Norm, NormSpec};
 
@@ -73,29 +73,16 @@ impl SqliteStore {
     }
 }
 
-fn set_table(set: Set) -> (&'static str, &'static str) {
-    match set {
-        Set::Norms => (
-            "SELECT version FROM norm_set WHERE id = 1",
-            "UPDATE norm_set SET version = version + 1 WHERE id = 1 RETURNING version",
-        ),
-        Set::Actions => (
-            "SELECT version FROM action_set WHERE id = 1",
-            "UPDATE action_set SET version = version + 1 WHERE id = 1 RETURNING version",
-        ),
-    }
-}
-
 pub struct SqliteTx(Transaction<'static, Sqlite>);
 
 #[async_trait]
 impl Tx for SqliteTx {
     async fn version(&mut self, set: Set) -> Result<i64, StoreError> {
-        Ok(sqlx::query_scalar(set_table(set).0).fetch_one(&mut *self.0).await?)
+        Ok(sqlx::query_scalar(set.sql().0).fetch_one(&mut *self.0).await?)
     }
 
     async fn bump(&mut self, set: Set) -> Result<i64, StoreError> {
-        Ok(sqlx::query_scalar(set_table(set).1).fetch_one(&mut *self.0).await?)
+        Ok(sqlx::query_scalar(set.sql().1).fetch_one(&mut *self.0).await?)
     }
 
     async fn norm(&mut self, id: i64) -> Result<Option<Norm>, StoreError> {
@@ -153,9 +140,7 @@ impl Tx for SqliteTx {
     }
 
     async fn actions(&mut self) -> Result<Vec<StoredAction>, StoreError> {
-        let rows: Vec<(String, String)> = sqlx::query_as("SELECT name, definition FROM actions ORDER BY name")
-            .fetch_all(&mut *self.0)
-            .await?;
+        let rows: Vec<(String, String)> = sqlx::query_as(ACTIONS_SQL).fetch_all(&mut *self.0).await?;
         rows.into_iter().map(action_from_row).collect()
     }
 

@@ -146,32 +146,19 @@ async fn reader_tokens_guard_reads_of_the_curated_state_but_never_decisions() {
 /// Secrets must not reach logs even at the most verbose level, whether sent right or wrong.
 #[tokio::test]
 async fn tokens_never_reach_the_log() {
-    use std::io::Read;
-    use std::process::{Command, Stdio};
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("log.txt");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
-        .arg(format!("sqlite://{}", dir.path().join("db").display()))
-        .env("SCRUPLE_ADMIN_TOKEN", "admin-SECRET-in-env")
-        .env("SCRUPLE_CURATOR_TOKENS", "carol=carol-SECRET-0123456789")
-        .env("RUST_LOG", "trace")
-        .stdout(Stdio::piped())
-        .stderr(std::fs::File::create(&log).unwrap())
-        .spawn()
-        .unwrap();
-    let mut stdout = child.stdout.take().unwrap();
-    let mut first = Vec::new();
-    let mut byte = [0u8; 1];
-    while stdout.read(&mut byte).unwrap() == 1 && byte[0] != b'\n' {
-        first.push(byte[0]);
-    }
-    let addr = String::from_utf8(first)
-        .unwrap()
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap()
-        .to_owned();
+    let served = crate::helpers::serve_binary(
+        &format!("sqlite://{}", dir.path().join("db").display()),
+        &[],
+        &[
+            ("SCRUPLE_ADMIN_TOKEN", "admin-SECRET-in-env"),
+            ("SCRUPLE_CURATOR_TOKENS", "carol=carol-SECRET-0123456789"),
+            ("RUST_LOG", "trace"),
+        ],
+        std::fs::File::create(&log).unwrap().into(),
+    );
+    let addr = served.addr.clone();
     let client = reqwest::Client::new();
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
     for token in ["admin-SECRET-in-env", "carol-SECRET-0123456789", "wrong-SECRET-guess"] {
@@ -183,17 +170,8 @@ async fn tokens_never_reach_the_log() {
             .await
             .unwrap();
     }
-    terminate(child.id());
-    child.wait().unwrap();
+    served.terminate();
     let text = std::fs::read_to_string(&log).unwrap();
     assert!(text.len() > 1000, "trace logging is on: {} bytes", text.len());
     assert!(!text.contains("SECRET"), "a secret reached the log");
-}
-
-fn terminate(pid: u32) {
-    let status = std::process::Command::new("kill")
-        .args(["-TERM", &pid.to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
 }

@@ -1,34 +1,24 @@
 //! The `scruple` binary as an operator runs it: flags, environment, the `listening on` line,
 //! and a clean exit on SIGTERM.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 use reqwest::StatusCode;
 use serde_json::json;
+
+use crate::helpers::serve_binary;
 
 #[tokio::test]
 async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("bin.db");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
-        .arg(format!("sqlite://{}", db.display()))
-        .env("SCRUPLE_ADMIN_TOKEN", "from-env")
-        .env("RUST_LOG", "warn")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("the binary starts");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("first line was {line:?}"))
-        .to_owned();
+    let served = serve_binary(
+        &format!("sqlite://{}", db.display()),
+        &[],
+        &[("SCRUPLE_ADMIN_TOKEN", "from-env"), ("RUST_LOG", "warn")],
+        Stdio::null(),
+    );
+    let addr = served.addr.clone();
     assert!(addr.starts_with("127.0.0.1:") && !addr.ends_with(":0"), "{addr}");
 
     let client = reqwest::Client::new();
@@ -52,14 +42,6 @@ async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm(
     assert_eq!(created.status(), StatusCode::CREATED);
     assert!(db.exists(), "the SQLite file is created");
 
-    let killed = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let status = tokio::task::spawn_blocking(move || child.wait())
-        .await
-        .unwrap()
-        .unwrap();
+    let status = tokio::task::spawn_blocking(move || served.terminate()).await.unwrap();
     assert_eq!(status.code(), Some(0), "SIGTERM drains and exits 0");
 }

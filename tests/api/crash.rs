@@ -3,9 +3,8 @@
 //! the database passes SQLite's integrity check. `SCRUPLE_CRASH_ITERATIONS` (default 20) sets
 //! how many kills.
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -14,25 +13,11 @@ use serde_json::{Value, json};
 use sqlx::sqlite::SqliteConnectOptions;
 use sqlx::{ConnectOptions, Connection};
 
+use crate::helpers::serve_binary;
+
 fn start(db: &Path) -> (Child, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
-        .arg(format!("sqlite://{}", db.display()))
-        .env("RUST_LOG", "error")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("the binary starts");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .trim()
-        .strip_prefix("listening on ")
-        .unwrap_or_else(|| panic!("restart failed: first line was {line:?}"))
-        .to_owned();
-    (child, addr)
+    let served = serve_binary(&format!("sqlite://{}", db.display()), &[], &[], Stdio::null());
+    (served.child, served.addr)
 }
 
 /// xorshift: kill moments that differ per iteration yet repeat from run to run.

@@ -176,3 +176,49 @@ pub async fn assert_problem(response: Response, status: StatusCode, field: Optio
     }
     body
 }
+
+/// The real `scruple serve` process on a free loopback port.
+pub struct Served {
+    pub child: std::process::Child,
+    /// `127.0.0.1:PORT`, from the `listening on` line.
+    pub addr: String,
+}
+
+/// Starts `scruple serve --listen 127.0.0.1:0 --database-url URL ARGS...` with `envs` (and
+/// `RUST_LOG=error` unless given), its stderr to `stderr`; returns once it prints its address.
+pub fn serve_binary(database_url: &str, args: &[&str], envs: &[(&str, &str)], stderr: std::process::Stdio) -> Served {
+    use std::io::{BufRead, BufReader};
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_scruple"));
+    command
+        .args(["serve", "--listen", "127.0.0.1:0", "--database-url", database_url])
+        .args(args)
+        .env("RUST_LOG", "error")
+        .stdout(std::process::Stdio::piped())
+        .stderr(stderr);
+    for (name, value) in envs {
+        command.env(name, value);
+    }
+    let mut child = command.spawn().expect("the binary starts");
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .trim()
+        .strip_prefix("listening on ")
+        .unwrap_or_else(|| panic!("the server did not start: first line was {line:?}"))
+        .to_owned();
+    Served { child, addr }
+}
+
+impl Served {
+    /// SIGTERM, then the exit status once it has drained.
+    pub fn terminate(mut self) -> std::process::ExitStatus {
+        let sent = std::process::Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        self.child.wait().unwrap()
+    }
+}

@@ -2,13 +2,10 @@
 //! caller's, or a fresh one), and JSON logs that carry it but keep the human's words and the
 //! speaker out unless `--log-utterances` is on.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
-
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 
-use crate::helpers::{get_vase, spawn_app};
+use crate::helpers::{get_vase, serve_binary, spawn_app};
 
 /// The value of the sample with exactly these labels, if the exposition has it.
 fn sample(text: &str, name_and_labels: &str) -> Option<f64> {
@@ -105,27 +102,15 @@ async fn every_response_carries_a_request_id_and_a_callers_id_is_echoed() {
 async fn json_log_of_one_decision(extra: &[&str]) -> (Vec<Value>, String) {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("log.jsonl");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
-        .args([
-            "serve",
-            "--listen",
-            "127.0.0.1:0",
-            "--log-format",
-            "json",
-            "--database-url",
-        ])
-        .arg(format!("sqlite://{}", dir.path().join("db").display()))
-        .args(extra)
-        .env("RUST_LOG", "scruple=debug,tower_http=debug")
-        .stdout(Stdio::piped())
-        .stderr(std::fs::File::create(&log).unwrap())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let mut args = vec!["--log-format", "json"];
+    args.extend_from_slice(extra);
+    let served = serve_binary(
+        &format!("sqlite://{}", dir.path().join("db").display()),
+        &args,
+        &[("RUST_LOG", "scruple=debug,tower_http=debug")],
+        std::fs::File::create(&log).unwrap().into(),
+    );
+    let addr = served.addr.clone();
     let mut body = get_vase();
     body["speaker"] = json!("dr_whistler");
     body["directive"]["text"] = json!("Get the vase, please.");
@@ -137,8 +122,7 @@ async fn json_log_of_one_decision(extra: &[&str]) -> (Vec<Value>, String) {
         .unwrap();
     assert_eq!(response.status(), StatusCode::OK);
     let id = response.headers()["x-request-id"].to_str().unwrap().to_owned();
-    let _ = Command::new("kill").args(["-TERM", &child.id().to_string()]).status();
-    child.wait().unwrap();
+    served.terminate();
     let lines = std::fs::read_to_string(&log)
         .unwrap()
         .lines()

@@ -2,40 +2,25 @@
 //! replica A is enforced by replica B on its very next request, also after B restarts, and the
 //! other way round.
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::process::Stdio;
 
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 
 use crate::backends::PgDatabase;
-use crate::helpers::get_vase;
+use crate::helpers::{Served, get_vase, serve_binary};
 
 struct Replica {
-    child: Child,
+    served: Served,
     base: String,
 }
 
 impl Replica {
     fn start(database_url: &str) -> Replica {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
-            .args(["serve", "--listen", "127.0.0.1:0", "--database-url", database_url])
-            .env("RUST_LOG", "error")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("the binary starts");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut line)
-            .unwrap();
-        let addr = line
-            .trim()
-            .strip_prefix("listening on ")
-            .unwrap_or_else(|| panic!("a replica failed to start: {line:?}"));
+        let served = serve_binary(database_url, &[], &[], Stdio::inherit());
         Replica {
-            base: format!("http://{addr}"),
-            child,
+            base: format!("http://{}", served.addr),
+            served,
         }
     }
 
@@ -50,11 +35,8 @@ impl Replica {
         response.json().await.unwrap()
     }
 
-    fn stop(mut self) {
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        let _ = self.child.wait();
+    fn stop(self) {
+        self.served.terminate();
     }
 }
 
