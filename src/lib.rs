@@ -6,5 +6,6 @@ pub mod app;
 pub mod core;
 pub mod engine;
 pub mod error;
+pub mod offline;
 pub mod storage;
 pub mod transport;
