@@ -12,7 +12,7 @@ use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
-use crate::engine::norms::{CompiledNorms, Norm, NormInput, Scope};
+use crate::engine::norms::{CompiledNorms, Norm, NormInput, NormSpec, Scope};
 use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
@@ -182,31 +182,7 @@ impl Core {
         expected: Option<i64>,
         actor: &str,
     ) -> Result<(i64, Vec<Norm>), Error> {
-        let mut given: Vec<i64> = Vec::with_capacity(inputs.len());
-        for (i, (id, _)) in inputs.iter().enumerate() {
-            if let Some(id) = *id {
-                if id <= 0 {
-                    return Err(Error::invalid(
-                        format!("/norms/{i}/id"),
-                        "a norm id is a positive integer",
-                    ));
-                }
-                if given.contains(&id) {
-                    return Err(Error::invalid(
-                        format!("/norms/{i}/id"),
-                        format!("id {id} is given twice"),
-                    ));
-                }
-                given.push(id);
-            }
-        }
-        let mut norms = Vec::with_capacity(inputs.len());
-        for (i, (id, input)) in inputs.into_iter().enumerate() {
-            let spec = input
-                .validate()
-                .map_err(|e| Error::invalid(format!("/norms/{i}{}", e.field), e.message))?;
-            norms.push((id, spec));
-        }
+        let norms = validate_norm_set(inputs)?;
         match self.store.import(&norms, expected, actor).await? {
             Write::Done(set) => Ok(set),
             Write::Missing => Err(Error::Internal("the norm set row is missing".to_owned())),
@@ -271,6 +247,37 @@ impl Core {
     pub async fn ready(&self) -> Result<(), Error> {
         Ok(self.store.ping().await?)
     }
+}
+
+/// Validates a whole norm set as an import takes it: ids given must be distinct and positive
+/// (errors point into `/norms/i`), and every norm valid; nothing is half-accepted.
+pub fn validate_norm_set(inputs: Vec<(Option<i64>, NormInput)>) -> Result<Vec<(Option<i64>, NormSpec)>, Error> {
+    let mut given: Vec<i64> = Vec::with_capacity(inputs.len());
+    for (i, (id, _)) in inputs.iter().enumerate() {
+        if let Some(id) = *id {
+            if id <= 0 {
+                return Err(Error::invalid(
+                    format!("/norms/{i}/id"),
+                    "a norm id is a positive integer",
+                ));
+            }
+            if given.contains(&id) {
+                return Err(Error::invalid(
+                    format!("/norms/{i}/id"),
+                    format!("id {id} is given twice"),
+                ));
+            }
+            given.push(id);
+        }
+    }
+    let mut norms = Vec::with_capacity(inputs.len());
+    for (i, (id, input)) in inputs.into_iter().enumerate() {
+        let spec = input
+            .validate()
+            .map_err(|e| Error::invalid(format!("/norms/{i}{}", e.field), e.message))?;
+        norms.push((id, spec));
+    }
+    Ok(norms)
 }
 
 /// How a conditional write on norm `id` ends for the caller.

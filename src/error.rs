@@ -212,7 +212,7 @@ pub struct Codes {
 }
 
 /// RFC 9457 problem details: every 4xx and 5xx answer of the REST API.
-#[derive(Serialize, utoipa::ToSchema)]
+#[derive(Clone, Debug, PartialEq, Serialize, utoipa::ToSchema)]
 pub struct Problem {
     /// A URI reference naming the kind of problem, e.g. `/problems/invalid-field`.
     #[serde(rename = "type")]
@@ -229,17 +229,25 @@ pub struct Problem {
 
 pub const PROBLEM_JSON: &str = "application/problem+json";
 
-impl IntoResponse for Error {
-    fn into_response(self) -> Response {
+impl Error {
+    /// The problem body a client is shown: the REST answer's, and the offline CLI's report.
+    pub fn problem(&self) -> Problem {
         let Codes { http, slug, title, .. } = self.codes();
-        self.log();
-        let body = Problem {
+        Problem {
             kind: format!("/problems/{slug}"),
             title: title.to_owned(),
             status: http.as_u16(),
             detail: self.public_detail(),
             field: self.field().map(str::to_owned),
-        };
+        }
+    }
+}
+
+impl IntoResponse for Error {
+    fn into_response(self) -> Response {
+        let http = self.codes().http;
+        self.log();
+        let body = self.problem();
         let mut response = (http, axum::Json(body)).into_response();
         response
             .headers_mut()

@@ -7,5 +7,6 @@ pub mod core;
 pub mod engine;
 pub mod error;
 pub mod metrics;
+pub mod offline;
 pub mod storage;
 pub mod transport;

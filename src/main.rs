@@ -1,6 +1,8 @@
-//! The `scruple` binary: flags and environment, telemetry, startup, graceful shutdown.
+//! The `scruple` binary: flags and environment, telemetry, startup, graceful shutdown, and the
+//! offline commands (their logic lives in `scruple::offline`).
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use std::time::Duration;
@@ -10,6 +12,7 @@ use clap::{Args, Parser, Subcommand};
 use scruple::api::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
 use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
+use scruple::offline::{self, Failure, Sources, Summary};
 use scruple::transport::admission::{
     AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
 };
@@ -33,6 +36,129 @@ enum Command {
     Serve(Box<ServeArgs>),
     /// Print the REST API's OpenAPI 3.1 document (as `openapi/openapi.json` holds it).
     Openapi,
+    /// Decide one request (a `POST /v1/clarify` body) without a server; print the answer.
+    ///
+    /// Exit status: 0 decided, 2 the input is at fault (the problem, with the file and the
+    /// field, goes to stderr), 1 anything else.
+    Clarify(ClarifyArgs),
+    /// Decide every request of a JSON Lines file; print decisions by kind and by condition.
+    ///
+    /// A line is a `POST /v1/clarify` body, or `{"id": "...", "condition": "...", "request":
+    /// BODY}` (id and condition optional). Lines that are not valid requests are counted as
+    /// errors with their line numbers; the others still run. Exit status: 0 when every line was
+    /// decided, 2 when some line could not be (or an input file is at fault), 1 on any other
+    /// failure. With `--diff`, changes do not change the exit status.
+    Replay(ReplayArgs),
+}
+
+/// Where decisions take their norms and verbs from. No environment variables: an offline run
+/// should not pick up a server's store by accident.
+#[derive(Args)]
+struct SourceArgs {
+    /// Norms from a JSON file: a list of norms as `POST /v1/norms` takes them (numbered 1, 2, ...
+    /// as on an empty store), or a norm set as `GET /v1/norm-set` gives it. Replaces the store's
+    /// norms; without either, there are none.
+    #[arg(long, value_name = "FILE")]
+    norms: Option<PathBuf>,
+    /// A store to read norms and verbs from (`sqlite://PATH`, which must exist; an older one is
+    /// migrated). Without it: the default action library.
+    #[arg(long, value_name = "URL")]
+    database_url: Option<String>,
+}
+
+#[derive(Args)]
+struct ClarifyArgs {
+    /// The request; `-` reads standard input.
+    file: PathBuf,
+    #[command(flatten)]
+    sources: SourceArgs,
+}
+
+#[derive(Args)]
+struct ReplayArgs {
+    /// The requests, one JSON value per line; `-` reads standard input.
+    file: PathBuf,
+    #[command(flatten)]
+    sources: SourceArgs,
+    /// Also write one answer per line, in line order: `{"line": N, "id": ..., "condition": ...,
+    /// "decision": ANSWER}` or, for a line not decided, `{..., "error": PROBLEM}`. With `--diff`,
+    /// the answers under the proposed `--norms`.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Compare the proposed `--norms` with the norms in force (`--baseline-norms`, else the
+    /// store's): list every request whose decision or utterance would change, and the count.
+    #[arg(long, requires = "norms")]
+    diff: bool,
+    /// The norms in force, for `--diff`, as a norms file.
+    #[arg(long, value_name = "FILE", requires = "diff")]
+    baseline_norms: Option<PathBuf>,
+}
+
+async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
+    let sources = Sources::open(args.sources.database_url.as_deref()).await?;
+    let knowledge = sources.knowledge(args.sources.norms.as_deref()).await?;
+    let answer = offline::clarify_file(&args.file, &knowledge)?;
+    let text = serde_json::to_string_pretty(&answer).map_err(|e| Failure::Run { detail: e.to_string() })?;
+    println!("{text}");
+    Ok(())
+}
+
+/// Runs a replay, with a counter on stderr when a person is watching.
+fn replay_with_progress(lines: &[offline::Line], knowledge: &offline::Knowledge, label: &str) -> Vec<offline::Answer> {
+    let total = lines.len();
+    let watching = std::io::stderr().is_terminal();
+    // About a hundred updates however long the batch: a terminal is slow to redraw.
+    let every = (total / 100).max(1);
+    let progress = |done: usize| {
+        if watching && (done.is_multiple_of(every) || done == total) {
+            eprint!("\r{label}: {done}/{total}");
+        }
+    };
+    let answers = offline::replay(lines, knowledge, &progress);
+    if watching && total > 0 {
+        eprintln!();
+    }
+    answers
+}
+
+/// Returns whether every line was decided.
+async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
+    let sources = Sources::open(args.sources.database_url.as_deref()).await?;
+    if args.diff && args.baseline_norms.is_none() && !sources.has_store() {
+        return Err(Failure::Usage {
+            detail: "--diff compares with the norms in force: give --baseline-norms FILE or --database-url URL"
+                .to_owned(),
+        });
+    }
+    let bytes = offline::read_input(&args.file)?;
+    let lines = offline::parse_lines(&bytes);
+    let proposed = sources.knowledge(args.sources.norms.as_deref()).await?;
+    let answers = replay_with_progress(&lines, &proposed, "replayed");
+    let summary = Summary::of(&answers);
+    if args.diff {
+        let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
+        let before = replay_with_progress(&lines, &baseline, "baseline");
+        let changes = offline::diff(&before, &answers);
+        print!("{}", offline::diff_report(&changes, answers.len()));
+        if !summary.errors.is_empty() {
+            println!();
+            print!("{}", summary.errors_report());
+        }
+    } else {
+        print!("{summary}");
+    }
+    if let Some(out) = &args.out {
+        std::fs::write(out, offline::answers_jsonl(&answers)).map_err(|e| Failure::Run {
+            detail: format!("cannot write {}: {e}", out.display()),
+        })?;
+    }
+    Ok(summary.errors.is_empty())
+}
+
+/// The problem goes to stderr as one JSON line, for people and scripts alike.
+fn failed(failure: &Failure) -> ExitCode {
+    eprintln!("{failure}");
+    ExitCode::from(failure.exit_code())
 }
 
 /// Every flag has an environment variable; secrets are better passed that way (a command line
@@ -111,8 +237,9 @@ enum LogFormat {
     Json,
 }
 
-fn init_logs(format: LogFormat) {
-    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info"));
+/// Offline commands report on stdout and stderr themselves; their log only speaks of trouble.
+fn init_logs(format: LogFormat, level: &str) {
+    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(level));
     let logs = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_writer(std::io::stderr);
@@ -183,11 +310,20 @@ async fn shutdown_signal() {
 #[tokio::main]
 async fn main() -> ExitCode {
     let Cli { command } = Cli::parse();
-    init_logs(match &command {
-        Command::Serve(args) => args.log_format,
-        Command::Openapi => LogFormat::Text,
-    });
+    match &command {
+        Command::Serve(args) => init_logs(args.log_format, "info"),
+        _ => init_logs(LogFormat::Text, "warn"),
+    }
     match command {
+        Command::Clarify(args) => match clarify_command(args).await {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(failure) => failed(&failure),
+        },
+        Command::Replay(args) => match replay_command(args).await {
+            Ok(true) => ExitCode::SUCCESS,
+            Ok(false) => ExitCode::from(2),
+            Err(failure) => failed(&failure),
+        },
         Command::Openapi => match scruple::transport::rest::openapi().to_pretty_json() {
             Ok(text) => {
                 println!("{text}");

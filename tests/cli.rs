@@ -1,0 +1,450 @@
+//! The offline commands, run as the real binary: `scruple clarify` and `scruple replay` against
+//! the paper's scenario in `../shared/scenarios/paper-demo.json`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+use scruple::app::{Application, Config};
+use serde_json::{Value, json};
+use tempfile::TempDir;
+
+fn demo() -> Value {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/paper-demo.json");
+    serde_json::from_str(&std::fs::read_to_string(path).expect("paper-demo.json")).expect("JSON")
+}
+
+/// A case of the demo as a `POST /v1/clarify` body.
+fn body_of(demo: &Value, case: &Value) -> Value {
+    let mut directive = case["directive"].clone();
+    directive["text"] = case["text"].clone();
+    let mut body = json!({"directive": directive, "scene": demo["scenes"][case["scene"].as_str().unwrap()]});
+    if let Some(options) = case.get("options") {
+        body["options"] = options.clone();
+    }
+    body
+}
+
+fn case_named<'a>(demo: &'a Value, name: &str) -> &'a Value {
+    demo["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("no case `{name}`"))
+}
+
+/// The experiment's condition for a case: the strategy it is decided with.
+fn condition_of(case: &Value) -> &str {
+    case["options"]["strategy"].as_str().unwrap_or("moral")
+}
+
+/// Every demo case as one replay line, labelled with its name and condition.
+fn demo_jsonl(demo: &Value) -> String {
+    demo["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|case| {
+            let line = json!({"id": case["name"], "condition": condition_of(case), "request": body_of(demo, case)});
+            format!("{line}\n")
+        })
+        .collect()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn scruple(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_scruple"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).unwrap()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8(output.stderr.clone()).unwrap()
+}
+
+/// The paper's three norms, as a list of norms for `--norms`.
+fn paper_norms(dir: &Path, demo: &Value) -> PathBuf {
+    write(dir, "norms.json", &demo["norms"].to_string())
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn clarify_get_the_vase_under_the_paper_norms_assumes_the_plastic_vase() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let case = case_named(&demo, "ambiguous, one forbidden state");
+    let request = write(dir.path(), "vase.json", &body_of(&demo, case).to_string());
+    let norms = paper_norms(dir.path(), &demo);
+
+    let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
+
+    assert!(output.status.success(), "{}", stderr(&output));
+    let answer: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(answer["decision"], "assume");
+    assert_eq!(answer["utterance"], case["expect"]["utterance"]);
+    assert_eq!(answer["goal"], case["expect"]["goal"]);
+    assert_eq!(answer["interpretations"][0]["reasons"][0]["norm_id"], 2);
+}
+
+#[test]
+fn clarify_without_norms_asks_about_both_vases() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let case = case_named(&demo, "ambiguous, one forbidden state");
+    let request = write(dir.path(), "vase.json", &body_of(&demo, case).to_string());
+
+    let output = scruple(&["clarify", s(&request)]);
+
+    assert!(output.status.success(), "{}", stderr(&output));
+    let answer: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(answer["decision"], "ask");
+    assert_eq!(answer["norm_version"], 0);
+}
+
+/// A server on a fresh store in this process, with the paper's norms posted in order.
+async fn server_with_paper_norms(dir: &Path, demo: &Value) -> (String, tokio::sync::oneshot::Sender<()>, String) {
+    let url = format!("sqlite://{}", dir.join("server.db").display());
+    let app = Application::build(Config::new("127.0.0.1:0", url.clone()))
+        .await
+        .expect("the service starts");
+    let base = format!("http://{}", app.local_addr().unwrap());
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    tokio::spawn(async move {
+        app.run_until(async {
+            let _ = stopped.await;
+        })
+        .await
+        .expect("serves");
+    });
+    let client = reqwest::Client::new();
+    for norm in demo["norms"].as_array().unwrap() {
+        let response = client.post(format!("{base}/v1/norms")).json(norm).send().await.unwrap();
+        assert_eq!(response.status(), 201);
+    }
+    (base, stop, url)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn clarify_answers_every_case_exactly_as_the_server_does() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let (base, stop, db) = server_with_paper_norms(dir.path(), &demo).await;
+    let norms = paper_norms(dir.path(), &demo);
+    let client = reqwest::Client::new();
+    for case in demo["cases"].as_array().unwrap() {
+        let body = body_of(&demo, case);
+        let served: Value = client
+            .post(format!("{base}/v1/clarify"))
+            .json(&body)
+            .send()
+            .await
+            .unwrap()
+            .json()
+            .await
+            .unwrap();
+        let request = write(dir.path(), "case.json", &body.to_string());
+        for sources in [["--norms", s(&norms)], ["--database-url", &db]] {
+            let mut args = vec!["clarify", s(&request)];
+            args.extend(sources);
+            let output = tokio::task::block_in_place(|| scruple(&args));
+            assert!(output.status.success(), "{}", stderr(&output));
+            let offline: Value = serde_json::from_str(&stdout(&output)).unwrap();
+            assert_eq!(offline, served, "{} with {sources:?}", case["name"]);
+        }
+    }
+    let _ = stop.send(());
+}
+
+#[test]
+fn bad_json_exits_2_naming_the_file_and_the_field() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let request = write(
+        dir.path(),
+        "bad.json",
+        &json!({"directive": {"action": "get", "arguments": [{"type": 5}]}, "scene": demo["scenes"]["lab"]})
+            .to_string(),
+    );
+    let not_json = write(dir.path(), "not.json", "{\"directive\": ");
+    let bad_norms = write(
+        dir.path(),
+        "norms.json",
+        r#"[{"kind": "forbidden_state", "state": "did(self,"}]"#,
+    );
+    let good = write(
+        dir.path(),
+        "good.json",
+        &body_of(&demo, case_named(&demo, "unambiguous permissible")).to_string(),
+    );
+
+    let cases: [(Vec<&str>, &str, &str, Option<&str>); 3] = [
+        (
+            vec!["clarify", s(&request)],
+            s(&request),
+            "/problems/invalid-field",
+            Some("/directive/arguments/0/type"),
+        ),
+        (
+            vec!["clarify", s(&not_json)],
+            s(&not_json),
+            "/problems/malformed-body",
+            None,
+        ),
+        (
+            vec!["clarify", s(&good), "--norms", s(&bad_norms)],
+            s(&bad_norms),
+            "/problems/invalid-field",
+            Some("/0/state"),
+        ),
+    ];
+    for (args, file, kind, field) in cases {
+        let output = scruple(&args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(output.stdout.is_empty());
+        let problem: Value = serde_json::from_str(stderr(&output).trim()).expect("one JSON problem on stderr");
+        assert_eq!(problem["file"], file);
+        assert_eq!(problem["type"], kind);
+        assert_eq!(problem["field"].as_str(), field, "{problem}");
+    }
+}
+
+#[test]
+fn a_missing_store_is_refused_rather_than_created_empty() {
+    let dir = TempDir::new().unwrap();
+    let db = dir.path().join("nothing.db");
+    let request = write(dir.path(), "r.json", "{}");
+    let output = scruple(&[
+        "clarify",
+        s(&request),
+        "--database-url",
+        &format!("sqlite://{}", db.display()),
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("no database at"), "{}", stderr(&output));
+    assert!(!db.exists());
+}
+
+/// Counts of `kind` by condition, as the expectations of the demo give them.
+fn expected_counts(demo: &Value) -> BTreeMap<String, BTreeMap<String, usize>> {
+    let mut counts: BTreeMap<String, BTreeMap<String, usize>> = BTreeMap::new();
+    for case in demo["cases"].as_array().unwrap() {
+        let kind = case["expect"]["decision"].as_str().unwrap().to_owned();
+        *counts
+            .entry(condition_of(case).to_owned())
+            .or_default()
+            .entry(kind)
+            .or_default() += 1;
+    }
+    counts
+}
+
+/// The rows of the summary's condition table: condition → kind → count.
+fn condition_table(summary: &str) -> BTreeMap<String, BTreeMap<String, usize>> {
+    let mut lines = summary.lines().skip_while(|l| !l.starts_with("condition"));
+    let header: Vec<&str> = lines.next().expect("a condition table").split_whitespace().collect();
+    let mut table = BTreeMap::new();
+    for line in lines.take_while(|l| !l.is_empty()) {
+        let cells: Vec<&str> = line.split_whitespace().collect();
+        let counts = header[1..]
+            .iter()
+            .zip(&cells[1..])
+            .map(|(kind, n)| ((*kind).to_owned(), n.parse().unwrap()))
+            .filter(|(_, n)| *n > 0)
+            .collect();
+        table.insert(cells[0].to_owned(), counts);
+    }
+    table
+}
+
+#[test]
+fn replay_of_every_paper_case_counts_the_expected_decisions() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let norms = paper_norms(dir.path(), &demo);
+    let out = dir.path().join("answers.jsonl");
+
+    let output = scruple(&["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)]);
+
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(stderr(&output), "", "no progress counter when stderr is not a terminal");
+    let summary = stdout(&output);
+    let cases = demo["cases"].as_array().unwrap();
+    assert!(
+        summary.starts_with(&format!("{0} requests: {0} decided, 0 errors\n", cases.len())),
+        "{summary}"
+    );
+    assert_eq!(condition_table(&summary), expected_counts(&demo), "{summary}");
+    let mut by_kind: BTreeMap<&str, usize> = BTreeMap::new();
+    for case in cases {
+        *by_kind.entry(case["expect"]["decision"].as_str().unwrap()).or_default() += 1;
+    }
+    let kinds_table: String = by_kind.iter().map(|(k, n)| format!("{k:<8}  {n:>5}\n")).collect();
+    assert!(
+        summary.contains(&format!("decision  count\n{kinds_table}")),
+        "{summary}"
+    );
+
+    let answers: Vec<Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers.len(), cases.len());
+    for (i, (answer, case)) in answers.iter().zip(cases).enumerate() {
+        assert_eq!(answer["line"], i + 1);
+        assert_eq!(answer["id"], case["name"]);
+        assert_eq!(answer["condition"], condition_of(case));
+        assert_eq!(
+            answer["decision"]["decision"], case["expect"]["decision"],
+            "{}",
+            case["name"]
+        );
+        assert_eq!(
+            answer["decision"]["utterance"], case["expect"]["utterance"],
+            "{}",
+            case["name"]
+        );
+        assert_eq!(answer["decision"]["goal"], case["expect"]["goal"], "{}", case["name"]);
+        assert!(answer.get("error").is_none());
+    }
+}
+
+#[test]
+fn diff_without_the_vase_norm_lists_exactly_the_cases_it_changes() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let baseline = paper_norms(dir.path(), &demo);
+    // The export format, as GET /v1/norm-set gives it, with the vase norm (id 2) gone.
+    let proposed = write(
+        dir.path(),
+        "proposed.json",
+        &json!({"version": 4, "norms": [
+            {"id": 1, "revision": 1, "kind": "forbidden_action", "action": "destroy", "when": [], "severity": 3},
+            {"id": 3, "revision": 3, "kind": "forbidden_action", "action": "steal", "when": [], "severity": 3},
+        ]})
+        .to_string(),
+    );
+
+    let output = scruple(&[
+        "replay",
+        s(&jsonl),
+        "--diff",
+        "--norms",
+        s(&proposed),
+        "--baseline-norms",
+        s(&baseline),
+    ]);
+
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let report = stdout(&output);
+    let changed: Vec<&str> = report.lines().filter(|l| l.starts_with("line ")).collect();
+    let line_of = |name: &str| {
+        demo["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|c| c["name"] == name)
+            .unwrap()
+            + 1
+    };
+    let expected = [
+        ("ambiguous, one forbidden state", "assume → ask"),
+        (
+            "same, as a logical form with bindings from an upstream resolver",
+            "assume → ask",
+        ),
+        ("same, confirming instead of assuming", "confirm → ask"),
+    ];
+    let expected: Vec<String> = expected
+        .iter()
+        .map(|(name, change)| format!("line {} ({name}): {change}", line_of(name)))
+        .collect();
+    assert_eq!(changed, expected, "{report}");
+    assert!(report.contains(
+        "  before: I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.\n  after:  Do you mean that you want me to get the fragile vase or that you want me to get the plastic vase?\n"
+    ), "{report}");
+    assert!(report.ends_with("3 of 10 requests would change\n"), "{report}");
+}
+
+#[test]
+fn diff_needs_the_norms_in_force() {
+    let dir = TempDir::new().unwrap();
+    let jsonl = write(dir.path(), "cases.jsonl", "");
+    let norms = write(dir.path(), "norms.json", "[]");
+    let output = scruple(&["replay", s(&jsonl), "--diff", "--norms", s(&norms)]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("--baseline-norms"), "{}", stderr(&output));
+}
+
+#[test]
+fn a_malformed_line_is_reported_with_its_number_and_the_rest_still_run() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let mug = body_of(&demo, case_named(&demo, "unambiguous permissible"));
+    let mut wrong = mug.clone();
+    wrong["directive"]["action"] = json!("Get");
+    let text = [
+        mug.to_string(),
+        "{\"directive\": ".to_owned(),
+        String::new(),
+        json!({"id": "again", "request": mug}).to_string(),
+        json!({"id": "typo", "condition": "x", "request": wrong}).to_string(),
+    ]
+    .join("\n");
+    let jsonl = write(dir.path(), "mixed.jsonl", &text);
+    let out = dir.path().join("answers.jsonl");
+
+    let output = scruple(&["replay", s(&jsonl), "--out", s(&out)]);
+
+    assert_eq!(output.status.code(), Some(2), "some lines were not decided");
+    let summary = stdout(&output);
+    assert!(summary.starts_with("4 requests: 2 decided, 2 errors\n"), "{summary}");
+    assert!(
+        summary.contains("decision  count\ncomply        2\nerror         2\n"),
+        "{summary}"
+    );
+    assert!(summary.contains("\nerrors\nline 2: malformed JSON: "), "{summary}");
+    assert!(summary.contains("\nline 5: "), "{summary}");
+    assert!(summary.contains("(at /request/directive/action)"), "{summary}");
+    assert_eq!(
+        condition_table(&summary),
+        BTreeMap::from([
+            (
+                "-".to_owned(),
+                BTreeMap::from([("comply".to_owned(), 2), ("error".to_owned(), 1)])
+            ),
+            ("x".to_owned(), BTreeMap::from([("error".to_owned(), 1)])),
+        ])
+    );
+
+    let answers: Vec<Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let lines: Vec<&Value> = answers.iter().map(|a| &a["line"]).collect();
+    assert_eq!(lines, [1, 2, 4, 5]);
+    assert_eq!(answers[0]["decision"]["decision"], "comply");
+    assert_eq!(answers[1]["error"]["type"], "/problems/malformed-body");
+    assert_eq!(answers[2]["id"], "again");
+    assert_eq!(answers[2]["decision"]["utterance"], "Okay.");
+    assert_eq!(answers[3]["error"]["field"], "/request/directive/action");
+    assert_eq!(answers[3]["condition"], "x");
+}
