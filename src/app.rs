@@ -21,6 +21,7 @@ use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
+use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, grpc, observe, rest};
 
 /// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
@@ -43,6 +44,9 @@ pub struct Config {
     pub admission: AdmissionConfig,
     /// Log the human's words, the speaker and the robot's answer with each decision (debug).
     pub log_utterances: bool,
+    /// Serve REST and gRPC over TLS with this certificate and key; cleartext (HTTP/1.1 and h2c)
+    /// without.
+    pub tls: Option<TlsFiles>,
 }
 
 impl Config {
@@ -58,6 +62,7 @@ impl Config {
             limits: RequestLimits::default(),
             admission: AdmissionConfig::default(),
             log_utterances: false,
+            tls: None,
         }
     }
 }
@@ -82,12 +87,15 @@ pub enum StartError {
     Grpc(Error),
     #[error("bad configuration: {0}")]
     Config(String),
+    #[error("cannot set up TLS: {0}")]
+    Tls(String),
 }
 
 /// A service bound to its port, ready to run.
 pub struct Application {
     listener: TcpListener,
     router: axum::Router,
+    tls: Option<Tls>,
 }
 
 impl Application {
@@ -103,6 +111,8 @@ impl Application {
         if config.admission.max_concurrent == 0 {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
+        // Before the store, so that bad certificate files fail fast and touch nothing.
+        let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
         let metrics = Arc::new(Metrics::new());
         let state = AppState {
@@ -122,6 +132,7 @@ impl Application {
         Ok(Application {
             listener,
             router: one_port(state, Admission::new(config.admission, metrics)).await?,
+            tls,
         })
     }
 
@@ -138,9 +149,18 @@ impl Application {
                 tracing::warn!(error = %e, "cannot set TCP_NODELAY");
             }
         });
-        axum::serve(listener, self.router)
-            .with_graceful_shutdown(shutdown)
-            .await
+        match self.tls {
+            None => {
+                axum::serve(listener, self.router)
+                    .with_graceful_shutdown(shutdown)
+                    .await
+            }
+            Some(tls) => {
+                axum::serve(tls.listen(listener)?, self.router)
+                    .with_graceful_shutdown(shutdown)
+                    .await
+            }
+        }
     }
 }
 

@@ -17,6 +17,7 @@ use scruple::transport::admission::{
     AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
 };
 use scruple::transport::auth::LabelledSecret;
+use scruple::transport::tls::TlsFiles;
 use tracing_subscriber::EnvFilter;
 
 #[derive(Parser)]
@@ -229,6 +230,13 @@ struct ServeArgs {
     /// debug). Off by default: they are personal data.
     #[arg(long, env = "SCRUPLE_LOG_UTTERANCES")]
     log_utterances: bool,
+    /// Serve REST and gRPC over TLS (ALPN h2 and http/1.1) with this PEM certificate chain,
+    /// server certificate first. Renewed files are taken up within seconds, without a restart.
+    #[arg(long, env = "SCRUPLE_TLS_CERT", value_name = "FILE", requires = "tls_key")]
+    tls_cert: Option<PathBuf>,
+    /// The PEM private key of `--tls-cert`.
+    #[arg(long, env = "SCRUPLE_TLS_KEY", value_name = "FILE", requires = "tls_cert")]
+    tls_key: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -279,6 +287,11 @@ impl ServeArgs {
                 queue_timeout: Duration::from_millis(self.queue_timeout_ms),
             },
             log_utterances: self.log_utterances,
+            tls: match (self.tls_cert, self.tls_key) {
+                (Some(cert), Some(key)) => Some(TlsFiles { cert, key }),
+                // clap requires each with the other.
+                _ => None,
+            },
         })
     }
 }

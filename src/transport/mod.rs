@@ -8,6 +8,7 @@ pub mod auth;
 pub mod grpc;
 pub mod observe;
 pub mod rest;
+pub mod tls;
 
 use std::sync::Arc;
 

@@ -159,7 +159,7 @@ async fn tokens_never_reach_the_log() {
         std::fs::File::create(&log).unwrap().into(),
     );
     let addr = served.addr.clone();
-    let client = reqwest::Client::new();
+    let client = crate::helpers::http_client();
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
     for token in ["admin-SECRET-in-env", "carol-SECRET-0123456789", "wrong-SECRET-guess"] {
         let _ = client

@@ -21,7 +21,7 @@ async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm(
     let addr = served.addr.clone();
     assert!(addr.starts_with("127.0.0.1:") && !addr.ends_with(":0"), "{addr}");
 
-    let client = reqwest::Client::new();
+    let client = crate::helpers::http_client();
     let health = client.get(format!("http://{addr}/healthz")).send().await.unwrap();
     assert_eq!(health.status(), StatusCode::OK);
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});

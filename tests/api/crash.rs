@@ -37,7 +37,7 @@ async fn every_acknowledged_write_survives_sigkill_at_random_moments() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("crash.db");
     let acknowledged: Arc<Mutex<Vec<(i64, String)>>> = Arc::default();
-    let client = reqwest::Client::new();
+    let client = crate::helpers::http_client();
     let mut random = 0x9e37_79b9_7f4a_7c15_u64;
     let mut killed_mid_stream = 0;
     for iteration in 0..iterations {

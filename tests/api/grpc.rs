@@ -47,7 +47,7 @@ fn opt(v: &Value) -> Option<String> {
 }
 
 /// The REST JSON of a clarify request, as the same proto message a gRPC client would build.
-fn clarify_request(body: &Value) -> pb::ClarifyRequest {
+pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
     let directive = &body["directive"];
     let scene = &body["scene"];
     let objects = scene["objects"]

@@ -8,6 +8,13 @@ use serde_json::{Value, json};
 use tempfile::TempDir;
 use tokio::sync::oneshot;
 
+/// A reqwest client. The tests' reqwest carries rustls without a built-in crypto provider (the
+/// TLS tests bring their own), so every client needs ring installed as the process default first.
+pub fn http_client() -> Client {
+    let _ = rustls::crypto::ring::default_provider().install_default();
+    Client::new()
+}
+
 pub struct TestApp {
     pub base: String,
     pub client: Client,
@@ -77,7 +84,7 @@ pub async fn spawn_on(dir: std::sync::Arc<TempDir>, options: Options) -> TestApp
     });
     TestApp {
         base: format!("http://{addr}"),
-        client: Client::new(),
+        client: http_client(),
         db_path,
         dir,
         stop: Some(stop),

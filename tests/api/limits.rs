@@ -176,7 +176,7 @@ async fn with_the_defaults_128_concurrent_clients_are_all_served() {
         let app = app.clone();
         clients.push(tokio::spawn(async move {
             // One connection per client, as 128 robots would have.
-            let client = reqwest::Client::new();
+            let client = crate::helpers::http_client();
             let mut statuses = Vec::new();
             for _ in 0..4 {
                 let response = client

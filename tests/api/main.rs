@@ -18,3 +18,4 @@ mod openapi;
 mod paper_demo;
 mod playground;
 mod replicas;
+mod tls;

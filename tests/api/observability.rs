@@ -114,7 +114,7 @@ async fn json_log_of_one_decision(extra: &[&str]) -> (Vec<Value>, String) {
     let mut body = get_vase();
     body["speaker"] = json!("dr_whistler");
     body["directive"]["text"] = json!("Get the vase, please.");
-    let response = reqwest::Client::new()
+    let response = crate::helpers::http_client()
         .post(format!("http://{addr}/v1/clarify"))
         .json(&body)
         .send()

@@ -45,7 +45,7 @@ async fn a_change_through_one_replica_is_enforced_by_the_other_on_its_next_reque
     let database = PgDatabase::create().await;
     let a = Replica::start(&database.url);
     let b = Replica::start(&database.url);
-    let client = reqwest::Client::new();
+    let client = crate::helpers::http_client();
     // Warm B's cache under the empty norm set: both vases may be got, so it asks.
     assert_eq!(b.decide(&client).await["decision"], "ask");
 
