@@ -4,12 +4,17 @@
 #     must be 200 (no 503 from admission control, no error);
 #  2. soak: wrk at concurrency 32 for S seconds (default 600), the server's RSS sampled every 10 s;
 #     fails unless every sample after the first minute is within 10% of that minute's sample.
+# With SOAK_TLS=1 the server serves TLS (--tls-cert/--tls-key, a P-256 certificate made with
+# openssl), both runs go over https, and a third step opens CHURN (default 5,000) fresh TLS
+# connections one after another, a handshake and a request each, to show handshakes leave nothing.
 # Prints Markdown for BENCHMARKS.md. Installs wrk and h2load (Debian) when missing.
-# Usage: scripts/soak.sh [REQUESTS, default 100000] [SOAK SECONDS, default 600]
+# Usage: [SOAK_TLS=1] scripts/soak.sh [REQUESTS, default 100000] [SOAK SECONDS, default 600] [CHURN]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 requests=${1:-100000}
 soak=${2:-600}
+churn=${3:-5000}
+tls=${SOAK_TLS:-0}
 if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
   apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
 fi
@@ -20,26 +25,35 @@ cleanup() { if [ -n "$server" ]; then kill "$server" 2>/dev/null || true; fi; rm
 trap cleanup EXIT
 fail() { echo "soak: FAIL: $*" >&2; exit 1; }
 
-target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/soak.db" >"$work/out" 2>"$work/err" &
+scheme=http
+tls_args=()
+if [ "$tls" = 1 ]; then
+  scheme=https
+  openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 2 -subj /CN=localhost \
+    -addext "subjectAltName=IP:127.0.0.1,DNS:localhost" -keyout "$work/tls.key" -out "$work/tls.crt" 2>/dev/null
+  tls_args=(--tls-cert "$work/tls.crt" --tls-key "$work/tls.key")
+fi
+target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/soak.db" "${tls_args[@]}" >"$work/out" 2>"$work/err" &
 server=$!
 for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
 addr=$(sed -n 's/^listening on //p' "$work/out")
 [ -n "$addr" ] || fail "no 'listening on' line: $(cat "$work/err")"
-python3 - "$addr" "$work" <<'PY'
-import json, sys, urllib.request
-addr, work = sys.argv[1], sys.argv[2]
+python3 - "$scheme://$addr" "$work" <<'PY'
+import json, ssl, sys, urllib.request
+base, work = sys.argv[1], sys.argv[2]
+context = ssl.create_default_context(cafile=f"{work}/tls.crt") if base.startswith("https") else None
 demo = json.load(open("../shared/scenarios/paper-demo.json"))
 for norm in demo["norms"]:
-    urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
+    urllib.request.urlopen(urllib.request.Request(f"{base}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}), context=context)
 body = {"directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}, "scene": demo["scenes"]["lab"]}
 open(f"{work}/body.json", "w").write(json.dumps(body))
 PY
 rss() { awk '/VmRSS/ {print $2}' "/proc/$server/status"; }
 
-echo "## Load: $requests requests at concurrency 128 (h2load --h1, REST)"
+echo "## Load: $requests requests at concurrency 128 (h2load --h1, REST over $scheme)"
 start_rss=$(rss)
 h2load --h1 -n "$requests" -c 128 -m 1 -H 'content-type: application/json' -d "$work/body.json" \
-  "http://$addr/v1/clarify" >"$work/load.txt"
+  "$scheme://$addr/v1/clarify" >"$work/load.txt"
 python3 - "$work/load.txt" "$requests" <<'PY'
 import re, sys
 text, wanted = open(sys.argv[1]).read(), int(sys.argv[2])
@@ -58,13 +72,37 @@ PY
 echo "- RSS before: $((start_rss / 1024)) MiB, after: $(( $(rss) / 1024 )) MiB"
 
 echo
-echo "## Soak: wrk at concurrency 32 for $soak s, RSS every 10 s"
+if [ "$tls" = 1 ]; then
+  echo
+  echo "## Handshake churn: $churn fresh TLS connections, one after another"
+  before=$(rss)
+  python3 - "$addr" "$work/tls.crt" "$churn" <<'PY'
+import http.client, ssl, sys, time
+addr, cafile, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
+host, port = addr.rsplit(":", 1)
+context = ssl.create_default_context(cafile=cafile)
+ok, start = 0, time.monotonic()
+for _ in range(n):
+    connection = http.client.HTTPSConnection(host, int(port), context=context, timeout=10)
+    connection.request("GET", "/healthz")
+    ok += connection.getresponse().status == 200
+    connection.close()
+elapsed = time.monotonic() - start
+print(f"- {n} connections in {elapsed:.1f} s ({n / elapsed:.0f}/s), {ok} × 200")
+if ok != n:
+    sys.exit("soak: FAIL: a fresh TLS connection was not served")
+PY
+  echo "- RSS before: $((before / 1024)) MiB, after: $(( $(rss) / 1024 )) MiB"
+fi
+
+echo
+echo "## Soak: wrk at concurrency 32 for $soak s, RSS every 10 s (REST over $scheme)"
 cat >"$work/post.lua" <<LUA
 wrk.method = "POST"
 wrk.headers["content-type"] = "application/json"
 local f = io.open("$work/body.json"); wrk.body = f:read("*a"); f:close()
 LUA
-wrk -t2 -c32 -d"${soak}s" -s "$work/post.lua" "http://$addr/v1/clarify" >"$work/wrk.txt" &
+wrk -t2 -c32 -d"${soak}s" -s "$work/post.lua" "$scheme://$addr/v1/clarify" >"$work/wrk.txt" &
 load=$!
 : >"$work/rss"
 elapsed=0
