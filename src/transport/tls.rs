@@ -29,7 +29,8 @@ pub const RELOAD_INTERVAL: Duration = Duration::from_secs(5);
 /// A client that has not finished its handshake by then is dropped.
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(10);
 /// Handshakes in progress at once; beyond that, new connections wait in the kernel's backlog.
-const MAX_HANDSHAKES: usize = 256;
+/// Each holds a few tens of KiB of rustls buffers, so this bounds that memory to tens of MiB.
+const MAX_HANDSHAKES: usize = 1024;
 
 /// `--tls-cert` and `--tls-key`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -135,6 +136,7 @@ impl Tls {
         L: Listener<Io = TcpStream, Addr = SocketAddr>,
     {
         let local = tcp.local_addr()?;
+        tracing::info!(cert = %self.files.cert.display(), "serving REST and gRPC over TLS");
         let (ready, incoming) = mpsc::channel(64);
         let acceptor = TlsAcceptor::from(self.config.clone());
         let accepting = tokio::spawn(accept_loop(tcp, acceptor, ready));
