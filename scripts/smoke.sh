@@ -16,15 +16,28 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "smoke: FAIL: $*" >&2; exit 1; }
 
-"$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token \
-  >"$work/out" 2>"$work/err" &
-server=$!
-for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$work/out")
-[ -n "$addr" ] || fail "no 'listening on' line; stderr: $(cat "$work/err")"
-echo "smoke: server on $addr"
 passed=0
 ok() { passed=$((passed + 1)); echo "smoke: ok: $*"; }
+# start ARGS...: `scruple serve` on a free port with the smoke database and ARGS; sets server, addr.
+start() {
+  "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token "$@" \
+    >"$work/out" 2>"$work/err" &
+  server=$!
+  for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
+  addr=$(sed -n 's/^listening on //p' "$work/out")
+  [ -n "$addr" ] || fail "no 'listening on' line ($*); stderr: $(cat "$work/err")"
+  echo "smoke: server on $addr $*"
+}
+# stop WHAT: SIGTERM must drain and exit 0.
+stop() {
+  kill -TERM "$server"
+  wait "$server" && status=0 || status=$?
+  server=""
+  [ "$status" = 0 ] || fail "SIGTERM exit status $status $1"
+  ok "SIGTERM $1 drains and exits 0"
+}
+
+start
 
 # REST
 [ "$(curl -s -o /dev/null -w '%{http_code}' "http://$addr/healthz")" = 200 ] || fail "healthz"
@@ -76,22 +89,14 @@ grpcurl -plaintext -d "{\"id\": $id}" "$addr" scruple.v1.Norms/GetNorm >"$work/g
 grep -q NotFound "$work/gone" || fail "GetNorm after delete: $(cat "$work/gone")"
 ok "gRPC GetNorm after the delete is NOT_FOUND"
 
-kill -TERM "$server"
-wait "$server" && status=0 || status=$?
-server=""
-[ "$status" = 0 ] || fail "SIGTERM exit status $status"
-ok "SIGTERM drains and exits 0"
+stop "in cleartext"
 
 # TLS: the same port serves HTTPS and gRPC over TLS; cleartext gets no answer
 openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 2 -subj /CN=localhost \
   -addext "subjectAltName=DNS:localhost,IP:127.0.0.1" -keyout "$work/tls.key" -out "$work/tls.crt" 2>/dev/null \
   || fail "openssl could not make a certificate"
-"$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token \
-  --tls-cert "$work/tls.crt" --tls-key "$work/tls.key" >"$work/out" 2>"$work/err" &
-server=$!
-for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-port=$(sed -n 's/^listening on 127.0.0.1://p' "$work/out")
-[ -n "$port" ] || fail "no 'listening on' line with TLS; stderr: $(cat "$work/err")"
+start --tls-cert "$work/tls.crt" --tls-key "$work/tls.key"
+port=${addr##*:}
 version=$(curl -s -o /dev/null -w '%{http_code} %{http_version}' --cacert "$work/tls.crt" "https://localhost:$port/healthz")
 [ "$version" = "200 2" ] || fail "curl over TLS: $version"
 ok "curl --cacert https://localhost:PORT/healthz is 200 over HTTP/2"
@@ -111,9 +116,5 @@ answer=$(grpcurl -cacert "$work/tls.crt" -d @ "localhost:$port" scruple.v1.Clari
 utterance=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["utterance"])' "$answer")
 [ "$utterance" = "$expected" ] || fail "gRPC Clarify over TLS said: $answer"
 ok "grpcurl Clarify over TLS assumes the plastic vase"
-kill -TERM "$server"
-wait "$server" && status=0 || status=$?
-server=""
-[ "$status" = 0 ] || fail "SIGTERM exit status $status with TLS"
-ok "SIGTERM with TLS drains and exits 0"
+stop "with TLS"
 echo "smoke: $passed passed, 0 failed"

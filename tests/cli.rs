@@ -1,6 +1,8 @@
 //! The offline commands, run as the real binary: `scruple clarify` and `scruple replay` against
 //! the paper's scenario in `../shared/scenarios/paper-demo.json`.
 
+mod support;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -131,7 +133,7 @@ async fn server_with_paper_norms(dir: &Path, demo: &Value) -> (String, tokio::sy
         .await
         .expect("serves");
     });
-    let client = http_client();
+    let client = support::http_client();
     for norm in demo["norms"].as_array().unwrap() {
         let response = client.post(format!("{base}/v1/norms")).json(norm).send().await.unwrap();
         assert_eq!(response.status(), 201);
@@ -145,7 +147,7 @@ async fn clarify_answers_every_case_exactly_as_the_server_does() {
     let dir = TempDir::new().unwrap();
     let (base, stop, db) = server_with_paper_norms(dir.path(), &demo).await;
     let norms = paper_norms(dir.path(), &demo);
-    let client = http_client();
+    let client = support::http_client();
     for case in demo["cases"].as_array().unwrap() {
         let body = body_of(&demo, case);
         let served: Value = client
@@ -447,11 +449,4 @@ fn a_malformed_line_is_reported_with_its_number_and_the_rest_still_run() {
     assert_eq!(answers[2]["decision"]["utterance"], "Okay.");
     assert_eq!(answers[3]["error"]["field"], "/request/directive/action");
     assert_eq!(answers[3]["condition"], "x");
-}
-
-/// A reqwest client. The tests' reqwest carries rustls without a built-in crypto provider, so ring
-/// must be the process default before a client is built.
-fn http_client() -> reqwest::Client {
-    let _ = rustls::crypto::ring::default_provider().install_default();
-    reqwest::Client::new()
 }

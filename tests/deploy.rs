@@ -11,6 +11,8 @@
 //!
 //! Nothing here builds an image or talks to a cluster: it reads the files and runs the binary.
 
+mod support;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -516,7 +518,7 @@ async fn the_probes_answer_on_the_real_binary_run_with_the_deployed_settings() {
     let server = serve(&env, dir.path());
 
     let url = format!("http://{}{readiness}", server.addr);
-    let response = http_client()
+    let response = support::http_client()
         .get(&url)
         .send()
         .await
@@ -836,11 +838,4 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
             volume.args
         );
     }
-}
-
-/// A reqwest client. The tests' reqwest carries rustls without a built-in crypto provider, so ring
-/// must be the process default before a client is built.
-fn http_client() -> reqwest::Client {
-    let _ = rustls::crypto::ring::default_provider().install_default();
-    reqwest::Client::new()
 }

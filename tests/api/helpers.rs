@@ -8,12 +8,7 @@ use serde_json::{Value, json};
 use tempfile::TempDir;
 use tokio::sync::oneshot;
 
-/// A reqwest client. The tests' reqwest carries rustls without a built-in crypto provider (the
-/// TLS tests bring their own), so every client needs ring installed as the process default first.
-pub fn http_client() -> Client {
-    let _ = rustls::crypto::ring::default_provider().install_default();
-    Client::new()
-}
+pub use crate::support::http_client;
 
 pub struct TestApp {
     pub base: String,

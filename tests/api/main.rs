@@ -18,4 +18,6 @@ mod openapi;
 mod paper_demo;
 mod playground;
 mod replicas;
+#[path = "../support/mod.rs"]
+mod support;
 mod tls;

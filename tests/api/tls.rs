@@ -36,7 +36,7 @@ fn write_pair(dir: &Path, (cert, key): &(String, String)) -> TlsFiles {
 
 /// A client that trusts `ca_pem` alone and offers `alpn` (e.g. `h2`, `http/1.1`).
 fn https_client(ca_pem: &str, alpn: &[&[u8]]) -> Client {
-    let _ = rustls::crypto::ring::default_provider().install_default();
+    crate::support::install_ring();
     let mut roots = rustls::RootCertStore::empty();
     roots
         .add(CertificateDer::from_pem_slice(ca_pem.as_bytes()).unwrap())
