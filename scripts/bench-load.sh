@@ -6,6 +6,7 @@
 # Usage: scripts/bench-load.sh [SECONDS per run, default 10]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 seconds=${1:-10}
 if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
   apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
@@ -21,8 +22,7 @@ start() { # name, command...: starts a server, echoes its address
   "$@" >"$work/$name.out" 2>"$work/$name.err" &
   pids+=($!)
   echo $! >"$work/$name.pid"
-  for _ in $(seq 1 100); do grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break; sleep 0.1; done
-  sed -n 's/^listening on //p' "$work/$name.out"
+  listening_addr "$work/$name.out" || true
 }
 scruple=$(start scruple target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/bench.db")
 floor=$(start floor target/release/examples/floor 127.0.0.1:0)

@@ -5,6 +5,7 @@
 # Needs node and npm; installs chromium with apt-get when /usr/bin/chromium is missing (as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 bin=${1:-${CARGO_TARGET_DIR:-target}/debug/scruple}
 shot=$(realpath -m "${2:-docs/playground.png}")
 work=$(mktemp -d)
@@ -27,9 +28,7 @@ fi
 
 "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/browser.db" >"$work/out" 2>"$work/err" &
 server=$!
-for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$work/out")
-[ -n "$addr" ] || fail "no 'listening on' line; stderr: $(cat "$work/err")"
+addr=$(listening_addr "$work/out") || fail "no 'listening on' line; stderr: $(cat "$work/err")"
 echo "browser-test: server on $addr"
 
 node tests/browser/playground.mjs "http://$addr/" "$shot" || fail "the browser test failed"

@@ -6,6 +6,7 @@
 # CARGO_TARGET_DIR). The Python requirements go into a venv kept at target/py-clients.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 target=${CARGO_TARGET_DIR:-target}
 bin=${1:-$target/debug/scruple}
 [ -x "$bin" ] || { echo "clients: no binary at $bin (cargo build first, or pass its path)" >&2; exit 1; }
@@ -30,9 +31,7 @@ start_server() {
   local name=$1
   "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/$name.db" >"$work/$name.out" 2>"$work/$name.err" &
   server=$!
-  for _ in $(seq 1 100); do grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break; sleep 0.1; done
-  addr=$(sed -n 's/^listening on //p' "$work/$name.out")
-  [ -n "$addr" ] || fail "$name: no 'listening on' line; stderr: $(cat "$work/$name.err")"
+  addr=$(listening_addr "$work/$name.out") || fail "$name: no 'listening on' line; stderr: $(cat "$work/$name.err")"
 }
 
 passed=0

@@ -6,6 +6,7 @@
 # a CI-sized run; use hundreds for a long hunt). Exits nonzero on any failed check.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 bin=${1:-target/debug/scruple}
 examples=${2:-5}
 token=schemathesis-token
@@ -27,9 +28,7 @@ fail() { echo "schemathesis: FAIL: $*" >&2; exit 1; }
 "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/db" --admin-token "$token" \
   >"$work/out" 2>"$work/err" &
 server=$!
-for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$work/out")
-[ -n "$addr" ] || fail "no 'listening on' line; stderr: $(cat "$work/err")"
+addr=$(listening_addr "$work/out") || fail "no 'listening on' line; stderr: $(cat "$work/err")"
 echo "schemathesis: server on $addr, $examples examples per operation"
 
 # Two checks are excluded, both about whether a request is accepted at all:

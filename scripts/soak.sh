@@ -11,6 +11,7 @@
 # Usage: [SOAK_TLS=1] scripts/soak.sh [REQUESTS, default 100000] [SOAK SECONDS, default 600] [CHURN]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. scripts/lib.sh
 requests=${1:-100000}
 soak=${2:-600}
 churn=${3:-5000}
@@ -35,9 +36,7 @@ if [ "$tls" = 1 ]; then
 fi
 target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/soak.db" "${tls_args[@]}" >"$work/out" 2>"$work/err" &
 server=$!
-for _ in $(seq 1 100); do grep -q '^listening on ' "$work/out" 2>/dev/null && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$work/out")
-[ -n "$addr" ] || fail "no 'listening on' line: $(cat "$work/err")"
+addr=$(listening_addr "$work/out") || fail "no 'listening on' line: $(cat "$work/err")"
 python3 - "$scheme://$addr" "$work" <<'PY'
 import json, ssl, sys, urllib.request
 base, work = sys.argv[1], sys.argv[2]
