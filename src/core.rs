@@ -12,7 +12,7 @@ use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, check};
 use crate::engine::clarify::{Decision, clarify};
-use crate::engine::norms::{CompiledNorms, Norm, NormInput, NormSpec, Scope};
+use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
 use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
@@ -255,10 +255,10 @@ pub fn validate_norm_set(inputs: Vec<(Option<i64>, NormInput)>) -> Result<Vec<(O
     let mut given: Vec<i64> = Vec::with_capacity(inputs.len());
     for (i, (id, _)) in inputs.iter().enumerate() {
         if let Some(id) = *id {
-            if id <= 0 {
+            if !(1..=MAX_NORM_ID).contains(&id) {
                 return Err(Error::invalid(
                     format!("/norms/{i}/id"),
-                    "a norm id is a positive integer",
+                    format!("a norm id is an integer from 1 to {MAX_NORM_ID} (2^53 − 1)"),
                 ));
             }
             if given.contains(&id) {
