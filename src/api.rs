@@ -15,7 +15,7 @@ use crate::engine::clarify::{
     Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
     Reference, Request, SinglePermissible, Strategy,
 };
-use crate::engine::norms::{Norm, NormInput, NormKind, validate_roles};
+use crate::engine::norms::{Norm, NormInput, NormKind, normalise_name, validate_roles};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
 use crate::engine::simulate::Reason;
 use crate::engine::speech::Style;
@@ -625,7 +625,8 @@ fn positive(field: &str, value: f64) -> Result<(), Error> {
 }
 
 fn context_of(context: Option<String>) -> Result<String, Error> {
-    let context = context.unwrap_or_else(|| "default".to_owned());
+    // Normalised as a norm's context is, so that the two meet.
+    let context = context.map_or_else(|| "default".to_owned(), |c| normalise_name(&c));
     if context.is_empty() || context.len() > MAX_NAME_LEN {
         return Err(Error::invalid(
             "/context",

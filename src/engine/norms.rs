@@ -36,6 +36,23 @@ pub const DEFAULT_SEVERITY: u8 = 3;
 pub const MAX_WHEN: usize = 16;
 pub const MAX_CONTEXT_LEN: usize = 128;
 pub const MAX_NOTE_LEN: usize = 4096;
+/// Largest norm id a client may send: 2^53 − 1, the largest integer every JSON client reads
+/// exactly.
+pub const MAX_NORM_ID: i64 = (1 << 53) - 1;
+
+/// A context or role name as norms and requests are matched on: trimmed, lower-case, each run of
+/// inner white space one `_`. A norm for "Hospital" must apply to a request in "hospital ": a
+/// norm that silently applies nowhere is a safety fault.
+pub fn normalise_name(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for (i, word) in text.split_whitespace().enumerate() {
+        if i > 0 {
+            out.push('_');
+        }
+        out.extend(word.chars().flat_map(char::to_lowercase));
+    }
+    out
+}
 
 /// A valid norm, not yet stored. `term` is the forbidden action (a bare name forbids every action
 /// of that name, any arity) or the forbidden state fact.
@@ -173,7 +190,8 @@ impl NormInput {
             .enumerate()
             .map(|(i, text)| parse_literal(&format!("/when/{i}"), text, "a condition"))
             .collect::<Result<Vec<_>, _>>()?;
-        if let Some(context) = &self.context
+        let context = self.context.as_deref().map(normalise_name);
+        if let Some(context) = &context
             && (context.is_empty() || context.len() > MAX_CONTEXT_LEN)
         {
             return Err(norm_error(
@@ -203,7 +221,7 @@ impl NormInput {
             kind,
             term,
             when,
-            context: self.context,
+            context,
             severity,
             note: self.note,
             roles,
@@ -217,19 +235,25 @@ pub const MAX_ROLES: usize = 16;
 /// Role names are short words: letters, digits, `_`, `-`; at most [`MAX_ROLES`] of them. Used
 /// for a norm's roles and for a request's speaker roles alike.
 pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, NormError> {
-    let roles = roles.unwrap_or_default();
-    if roles.len() > MAX_ROLES {
+    let given = roles.unwrap_or_default();
+    if given.len() > MAX_ROLES {
         return Err(norm_error(field, format!("at most {MAX_ROLES} roles")));
     }
-    for (i, role) in roles.iter().enumerate() {
+    // Normalised as contexts are; a role named twice (perhaps in two spellings) counts once.
+    let mut roles: Vec<String> = Vec::with_capacity(given.len());
+    for (i, text) in given.iter().enumerate() {
+        let role = normalise_name(text);
         let valid = !role.is_empty()
             && role.len() <= MAX_CONTEXT_LEN
             && role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         if !valid {
             return Err(norm_error(
                 format!("{field}/{i}"),
-                format!("`{role}` is not a role name (letters, digits, `_`, `-`)"),
+                format!("`{text}` is not a role name (letters, digits, `_`, `-`)"),
             ));
+        }
+        if !roles.contains(&role) {
+            roles.push(role);
         }
     }
     Ok(roles)

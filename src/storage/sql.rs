@@ -10,7 +10,7 @@ use async_trait::async_trait;
 use super::{Accept, AuditEntry, NormStore, Operation, StoreError, StoredAction, Subject, Versions, Write};
 use crate::api::NormDto;
 use crate::engine::action::ActionInput;
-use crate::engine::norms::{Norm, NormKind, NormSpec};
+use crate::engine::norms::{Norm, NormKind, NormSpec, normalise_name};
 use crate::engine::term::Term;
 
 /// Which set's version a write moves.
@@ -77,6 +77,16 @@ pub(super) fn to_json(list: &[String]) -> Result<String, StoreError> {
     serde_json::to_string(list).map_err(|e| StoreError(e.to_string()))
 }
 
+fn normalised(names: Vec<String>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::with_capacity(names.len());
+    for name in names.iter().map(|n| normalise_name(n)) {
+        if !out.contains(&name) {
+            out.push(name);
+        }
+    }
+    out
+}
+
 impl NormRow {
     pub(super) fn into_norm(self) -> Result<Norm, StoreError> {
         let id = self.id;
@@ -98,11 +108,13 @@ impl NormRow {
                 kind,
                 term,
                 when,
-                context: self.context,
+                // Stored before names were normalised on the way in: normalised as read, so
+                // that a "Hospital" norm still meets a "hospital" request.
+                context: self.context.as_deref().map(normalise_name),
                 severity,
                 note: self.note,
-                roles: json_list(id, "roles_json", &self.roles_json)?,
-                exempt_roles: json_list(id, "exempt_roles_json", &self.exempt_roles_json)?,
+                roles: normalised(json_list(id, "roles_json", &self.roles_json)?),
+                exempt_roles: normalised(json_list(id, "exempt_roles_json", &self.exempt_roles_json)?),
             },
         })
     }

@@ -419,7 +419,7 @@ async fn bad_options_answers_and_roles_name_their_field() {
         ),
         (with(&|b| b["answer"] = json!({"id": "object9"})), "/answer/id"),
         (
-            with(&|b| b["speaker_roles"] = json!(["head nurse"])),
+            with(&|b| b["speaker_roles"] = json!(["head nurse!"])),
             "/speaker_roles/0",
         ),
     ];
@@ -433,7 +433,7 @@ async fn bad_options_answers_and_roles_name_their_field() {
     }
     let norms: Vec<(Value, &str)> = vec![
         (
-            json!({"kind": "forbidden_action", "action": "steal", "roles": ["a b"]}),
+            json!({"kind": "forbidden_action", "action": "steal", "roles": ["a/b"]}),
             "/roles/0",
         ),
         (
