@@ -44,7 +44,7 @@ fn lab_scene() -> pb::Scene {
         agent: Some(pb::Agent {
             id: Some("self".to_owned()),
             position: vec![0.0, 0.0, 0.75],
-            reach: 0.9,
+            reach: Some(0.9),
             ..Default::default()
         }),
         objects: vec![

@@ -67,7 +67,7 @@ fn main() {
             agent: Some(pb::Agent {
                 id: Some("self".into()),
                 position: vec![0.0, 0.0, 0.75],
-                reach: 0.9,
+                reach: Some(0.9),
                 ..Default::default()
             }),
             objects,

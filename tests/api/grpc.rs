@@ -130,7 +130,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             agent: Some(pb::Agent {
                 id: opt(&scene["agent"]["id"]),
                 position: numbers(&scene["agent"]["position"]),
-                reach: scene["agent"]["reach"].as_f64().unwrap(),
+                reach: scene["agent"]["reach"].as_f64(),
                 gripper_aperture: scene["agent"]["gripper_aperture"].as_f64(),
                 payload: scene["agent"]["payload"].as_f64(),
                 gripper_size: scene["agent"]["gripper_size"].as_f64(),
@@ -493,6 +493,7 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
                 norm: Some(norm_request(&json!({"kind": "forbidden_action", "action": "destroy"}))),
             }],
             expected_version: Some(exported.version),
+            clear: false,
         })
         .await
         .unwrap()
@@ -502,6 +503,7 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
         .import_norms(pb::ImportNormsRequest {
             norms: vec![],
             expected_version: Some(exported.version),
+            clear: true,
         })
         .await
         .unwrap_err();
@@ -524,4 +526,91 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
         .await
         .unwrap_err();
     assert_eq!(bad_limit.code(), Code::InvalidArgument);
+}
+
+/// proto3 sends a missing list as an empty one: an empty `ImportNorms` must not erase the norms
+/// (the hostile pass: `grpcurl -d '{}'` removed every norm, and "Destroy the vase." was obeyed).
+#[tokio::test]
+async fn an_empty_import_over_grpc_is_refused_unless_it_says_clear() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    let mut norms = NormsClient::new(channel(&app).await);
+    let refused = norms.import_norms(pb::ImportNormsRequest::default()).await.unwrap_err();
+    assert_eq!(refused.code(), Code::InvalidArgument);
+    assert_eq!(refused.metadata().get("field").unwrap(), "/norms");
+    let listed: Value = app.get("/v1/norms").await.json().await.unwrap();
+    assert_eq!(listed.as_array().unwrap().len(), 1, "nothing was removed");
+    let destroy = json!({"directive": {"action": "destroy", "arguments": [{"id": "object3"}]}, "scene": lab_scene()});
+    let decided = app.clarify(&destroy).await;
+    assert_eq!(decided["decision"], "refuse");
+
+    let both = norms
+        .import_norms(pb::ImportNormsRequest {
+            norms: vec![pb::ImportedNorm {
+                id: None,
+                norm: Some(norm_request(&json!({"kind": "forbidden_action", "action": "steal"}))),
+            }],
+            expected_version: None,
+            clear: true,
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(both.code(), Code::InvalidArgument);
+    assert_eq!(both.metadata().get("field").unwrap(), "/clear");
+    let no_norm = norms
+        .import_norms(pb::ImportNormsRequest {
+            norms: vec![pb::ImportedNorm {
+                id: Some(4),
+                norm: None,
+            }],
+            ..Default::default()
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(no_norm.metadata().get("field").unwrap(), "/norms/0/norm");
+
+    let cleared = norms
+        .import_norms(pb::ImportNormsRequest {
+            clear: true,
+            ..Default::default()
+        })
+        .await
+        .unwrap()
+        .into_inner();
+    assert!(cleared.norms.is_empty());
+    let decided = app.clarify(&destroy).await;
+    assert_eq!(decided["decision"], "comply", "an explicit clear does clear");
+}
+
+/// Other messages whose missing part would silently change norms or decisions are refused too.
+#[tokio::test]
+async fn missing_messages_that_would_change_norms_or_decisions_are_invalid_arguments() {
+    let app = spawn_app().await;
+    let channel = channel(&app).await;
+    let mut norms = NormsClient::new(channel.clone());
+    let replace = norms
+        .replace_norm(pb::ReplaceNormRequest {
+            id: 1,
+            norm: None,
+            expected_revision: None,
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(replace.code(), Code::InvalidArgument);
+    assert_eq!(replace.metadata().get("field").unwrap(), "/norm");
+    let mut actions = pb::actions_client::ActionsClient::new(channel.clone());
+    let put = actions
+        .put_action(pb::PutActionRequest {
+            name: "open".to_owned(),
+            action: None,
+        })
+        .await
+        .unwrap_err();
+    assert_eq!(put.metadata().get("field").unwrap(), "/action");
+    let mut request = clarify_request(&get_vase());
+    request.scene.as_mut().unwrap().agent.as_mut().unwrap().reach = None;
+    let clarify = ClarifierClient::new(channel).clarify(request).await.unwrap_err();
+    assert_eq!(clarify.code(), Code::InvalidArgument);
+    assert_eq!(clarify.metadata().get("field").unwrap(), "/scene/agent/reach");
 }

@@ -157,7 +157,7 @@ impl TryFrom<pb::Scene> for SceneBody {
             agent: AgentBody {
                 id: agent.id,
                 position: fixed("/scene/agent/position", agent.position)?,
-                reach: agent.reach,
+                reach: agent.reach.ok_or_else(|| missing("/scene/agent/reach"))?,
                 gripper_aperture: agent.gripper_aperture,
                 payload: agent.payload,
                 gripper_size: agent.gripper_size,
@@ -344,6 +344,7 @@ impl From<pb::Action> for ActionInput {
             name: a.name,
             parameters: a.parameters,
             joiner: a.joiner,
+            distinct: a.distinct,
             methods: a
                 .methods
                 .into_iter()
@@ -367,6 +368,7 @@ impl From<ActionInput> for pb::Action {
             name: a.name,
             parameters: a.parameters,
             joiner: a.joiner,
+            distinct: a.distinct,
             methods: a
                 .methods
                 .into_iter()

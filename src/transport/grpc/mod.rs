@@ -104,7 +104,11 @@ impl Norms for NormsService {
     async fn replace_norm(&self, request: Request<pb::ReplaceNormRequest>) -> Result<Response<pb::Norm>, Status> {
         let actor = authorize(&self.state, &request, Access::Write)?;
         let request = request.into_inner();
-        let body = NormBody::from(request.norm.unwrap_or_default());
+        let body = NormBody::from(
+            request
+                .norm
+                .ok_or_else(|| Error::invalid("/norm", "missing field `norm`"))?,
+        );
         let input = body.for_replace(request.id)?;
         let norm = (self.state.core)
             .replace_norm(request.id, input, request.expected_revision, &actor)
@@ -133,9 +137,27 @@ impl Norms for NormsService {
     async fn import_norms(&self, request: Request<pb::ImportNormsRequest>) -> Result<Response<pb::NormSet>, Status> {
         let actor = authorize(&self.state, &request, Access::Write)?;
         let request = request.into_inner();
+        // REST refuses a body without `norms`; proto3 sends no list as an empty one, so only an
+        // explicit `clear` may empty the norm set.
+        if request.norms.is_empty() && !request.clear {
+            return Err(Error::invalid(
+                "/norms",
+                "an import with no norms would remove every norm: set `clear: true` to do that",
+            )
+            .into());
+        }
+        if !request.norms.is_empty() && request.clear {
+            return Err(Error::invalid("/clear", "`clear` empties the set: send it with no norms").into());
+        }
         let inputs = (request.norms.into_iter())
-            .map(|n| (n.id, NormBody::from(n.norm.unwrap_or_default()).into_input()))
-            .collect();
+            .enumerate()
+            .map(|(i, n)| {
+                let norm = n
+                    .norm
+                    .ok_or_else(|| Error::invalid(format!("/norms/{i}/norm"), "missing field `norm`"))?;
+                Ok((n.id, NormBody::from(norm).into_input()))
+            })
+            .collect::<Result<_, Error>>()?;
         let (version, norms) = (self.state.core)
             .import_norms(inputs, request.expected_version, &actor)
             .await?;
@@ -186,7 +208,11 @@ impl Actions for ActionsService {
     ) -> Result<Response<pb::PutActionResponse>, Status> {
         let actor = authorize(&self.state, &request, Access::Write)?;
         let request = request.into_inner();
-        let body = ActionInput::from(request.action.unwrap_or_default());
+        let body = ActionInput::from(
+            request
+                .action
+                .ok_or_else(|| Error::invalid("/action", "missing field `action`"))?,
+        );
         let (stored, created) = self.state.core.put_action(&request.name, body, &actor).await?;
         Ok(Response::new(pb::PutActionResponse {
             action: Some(stored.into()),
