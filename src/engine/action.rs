@@ -48,6 +48,9 @@ pub struct ActionDef {
     pub params: Vec<Sym>,
     /// The word that joins the verb's arguments when spoken ("put the cup on the plate").
     pub joiner: Option<String>,
+    /// The arguments must be different objects: a reading that names one twice (a cup put on
+    /// itself) is infeasible.
+    pub distinct: bool,
     /// Tried in order; at least one.
     pub methods: Vec<Method>,
 }
@@ -91,6 +94,10 @@ pub struct ActionInput {
     /// The word joining the arguments when spoken: `on` for "put the cup on the plate".
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joiner: Option<String>,
+    /// The arguments must name different objects (`put` does): a reading that names one object
+    /// twice is infeasible (`same_object`) and never offered. Default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub distinct: bool,
     /// One or more ways of carrying the verb out; a reading is acceptable when any is.
     #[serde(default)]
     pub methods: Vec<MethodInput>,
@@ -192,10 +199,14 @@ impl ActionInput {
             .enumerate()
             .map(|(i, m)| m.validate(&format!("/methods/{i}"), name, &params))
             .collect::<Result<_, _>>()?;
+        if self.distinct && params.len() < 2 {
+            return Err(action_error("/distinct", "`distinct` needs two or more parameters"));
+        }
         Ok(ActionDef {
             name: Sym::from(name),
             params,
             joiner: self.joiner.clone(),
+            distinct: self.distinct,
             methods,
         })
     }
@@ -293,6 +304,7 @@ impl ActionDef {
             name: Some(self.name.to_string()),
             parameters: names(&self.params),
             joiner: self.joiner.clone(),
+            distinct: self.distinct,
             methods: self
                 .methods
                 .iter()
@@ -404,6 +416,7 @@ impl Library {
             name: Sym::from(name),
             params: vec![Sym::from("X")],
             joiner: None,
+            distinct: false,
             methods: vec![Method {
                 reach: reach.iter().map(|p| Sym::from(*p)).collect(),
                 grasp: grasp.iter().map(|p| Sym::from(*p)).collect(),
@@ -418,6 +431,7 @@ impl Library {
             name: Sym::from("put"),
             params: vec![Sym::from("X"), Sym::from("Y")],
             joiner: Some("on".into()),
+            distinct: true,
             methods: vec![Method {
                 reach: vec![Sym::from("X"), Sym::from("Y")],
                 // X was grasped by the get step.

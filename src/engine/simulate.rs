@@ -38,6 +38,13 @@ pub enum Cause {
     Precondition { fact: Term },
     /// The plan expands deeper than [`MAX_PLAN_DEPTH`].
     PlanTooDeep { step: Term },
+    /// A verb whose arguments must be distinct names one object twice: a cup put on itself.
+    SameObject {
+        verb: Sym,
+        object: Sym,
+        /// The verb's joiner ("on"), for the words.
+        joiner: Option<String>,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -72,6 +79,7 @@ impl Reason {
             Cause::UnknownObject { .. } => "unknown_object",
             Cause::Precondition { .. } => "precondition",
             Cause::PlanTooDeep { .. } => "plan_too_deep",
+            Cause::SameObject { .. } => "same_object",
         }
     }
 
@@ -87,6 +95,7 @@ impl Reason {
             Cause::Blocked { object, by } => format!("{object} blocked by {by}"),
             Cause::NoRoom { item, support } => format!("no room for {item} on {support}"),
             Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
+            Cause::SameObject { object, .. } => object.to_string(),
         }
     }
 
@@ -108,6 +117,7 @@ impl Reason {
             Cause::UnknownObject { object } => ("unknownObject", object.clone()),
             Cause::Precondition { fact } => ("precondition", fact.clone()),
             Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
+            Cause::SameObject { object, .. } => ("sameObject", Term::Const(object.clone())),
         };
         Term::compound(name, vec![arg])
     }
@@ -134,6 +144,15 @@ impl Outcome {
     pub fn feasible(&self) -> bool {
         self.reasons.iter().all(Reason::is_norm_violation)
     }
+}
+
+/// The first object an action names twice, if any.
+fn repeated_argument(action: &Term) -> Option<Sym> {
+    let args = action.args();
+    args.iter()
+        .enumerate()
+        .find(|(i, a)| args[..*i].contains(a))
+        .and_then(|(_, a)| a.name().cloned())
 }
 
 /// `did(self,action)`: the paper's convention for "action is done".
@@ -208,6 +227,15 @@ impl Run<'_> {
         let Some(bindings) = def.bind(action) else {
             return;
         };
+        if def.distinct
+            && let Some(object) = repeated_argument(action)
+        {
+            self.push(Reason::infeasible(Cause::SameObject {
+                verb: def.name.clone(),
+                object,
+                joiner: def.joiner.clone(),
+            }));
+        }
         if let [method] = def.methods.as_slice() {
             self.run_method(action, method, &bindings, depth);
             return;

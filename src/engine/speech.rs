@@ -145,7 +145,47 @@ fn geometry_words(cause: &Cause, describer: &mut Describer<'_>, natural: bool) -
             let item = name(item);
             format!("there is no room for {item} on {}", name(support))
         }
+        Cause::SameObject { verb, object, joiner } => format!(
+            "{} cannot be {} {} itself",
+            name(object),
+            participle(&spoken(verb)),
+            joiner.as_deref().unwrap_or("with")
+        ),
         _ => String::new(),
+    }
+}
+
+/// "put" → "put", "stack" → "stacked", "place" → "placed": the past participle of a verb as
+/// spoken (its first word; the rest, a particle, follows). Irregular verbs a curator is likely
+/// to define are listed; the rest are taken as regular.
+fn participle(verb: &str) -> String {
+    let (head, rest) = verb.split_once(' ').map_or((verb, ""), |(h, r)| (h, r));
+    let irregular = [
+        ("put", "put"),
+        ("set", "set"),
+        ("get", "got"),
+        ("hang", "hung"),
+        ("lay", "laid"),
+        ("stick", "stuck"),
+        ("tie", "tied"),
+        ("bind", "bound"),
+        ("hold", "held"),
+        ("give", "given"),
+        ("take", "taken"),
+        ("bring", "brought"),
+        ("throw", "thrown"),
+        ("sit", "sat"),
+        ("cut", "cut"),
+    ];
+    let done = match irregular.iter().find(|(v, _)| *v == head) {
+        Some((_, p)) => (*p).to_owned(),
+        None if head.ends_with('e') => format!("{head}d"),
+        None => format!("{head}ed"),
+    };
+    if rest.is_empty() {
+        done
+    } else {
+        format!("{done} {rest}")
     }
 }
 

@@ -1418,14 +1418,21 @@ fn plans_and_reasons() {
             )]),
         ),
         case(
-            "putting an object on itself still simulates",
+            // `put` is distinct: a mug is not put on itself. The simulation still runs its
+            // plan, so that every other reason is found too.
+            "putting an object on itself is infeasible, and still simulated",
             lab(),
             norms(&[]),
             act("put", vec![ty("mug"), ty("mug")]),
-            expect(Comply, Some("did(self,put(object5,object5))"), "Okay.").interps(vec![interp(
+            expect(
+                Refuse,
+                None,
+                "I cannot put the mug on the mug because the mug cannot be put on itself.",
+            )
+            .interps(vec![interp(
                 "did(self,put(object5,object5))",
                 "the mug on the mug",
-                vec![],
+                vec![("same_object", "object5", None)],
                 &["get(object5)", "put(object5,object5)"],
             )]),
         ),

@@ -41,7 +41,7 @@ async fn a_fresh_store_holds_the_contracts_default_library() {
     let put_verb: Value = app.get("/v1/actions/put").await.json().await.unwrap();
     assert_eq!(
         put_verb,
-        json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"],
+        json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "distinct": true, "methods": [{"steps": ["get(X)", "itself"],
                "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})
     );
     assert_problem(app.get("/v1/actions/juggle").await, StatusCode::NOT_FOUND, None).await;

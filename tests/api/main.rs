@@ -9,6 +9,7 @@ mod crash;
 mod errors;
 mod fail_closed;
 mod grpc;
+mod hardening;
 mod helpers;
 mod integrity;
 mod limits;

@@ -1,0 +1,208 @@
+//! Regressions from the hostile pass: each test pins one finding of the hardening issue, as a
+//! user of the API sees it (status codes, problem fields, decisions, persisted state).
+
+use reqwest::StatusCode;
+use serde_json::{Value, json};
+use sqlx::sqlite::SqliteConnectOptions;
+use sqlx::{ConnectOptions, Connection};
+
+use crate::helpers::{Options, TestApp, assert_problem, lab_scene, spawn_app, spawn_on};
+
+async fn sql(app: &TestApp, statements: &'static str) {
+    let mut connection = SqliteConnectOptions::new()
+        .filename(&app.db_path)
+        .connect()
+        .await
+        .expect("open the database");
+    sqlx::raw_sql(statements)
+        .execute(&mut connection)
+        .await
+        .expect("the SQL runs");
+    connection.close().await.unwrap();
+}
+
+async fn put_json(app: &TestApp, path: &str, body: &Value) -> reqwest::Response {
+    app.client.put(app.url(path)).json(body).send().await.unwrap()
+}
+
+/// Finding 1: an id beyond 2^53 − 1 in an import answered 200 and then every create failed
+/// with "database or disk is full", even after a delete and a restart.
+#[tokio::test]
+async fn an_import_with_an_id_beyond_2_pow_53_is_refused_and_creating_still_works() {
+    let app = spawn_app().await;
+    for id in [9_223_372_036_854_775_807_i64, 9_007_199_254_740_992, 0, -1] {
+        let body = json!({"norms": [
+            {"kind": "forbidden_action", "action": "steal"},
+            {"id": id, "kind": "forbidden_action", "action": "x"},
+        ]});
+        let problem = assert_problem(
+            put_json(&app, "/v1/norm-set", &body).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/norms/1/id"),
+        )
+        .await;
+        assert!(
+            problem["detail"].as_str().unwrap().contains("9007199254740991"),
+            "{problem}"
+        );
+    }
+    let largest = json!({"norms": [{"id": 9_007_199_254_740_991_i64, "kind": "forbidden_action", "action": "x"}]});
+    assert_eq!(put_json(&app, "/v1/norm-set", &largest).await.status(), StatusCode::OK);
+    let created = app
+        .post("/v1/norms", &json!({"kind": "forbidden_action", "action": "steal"}))
+        .await;
+    assert_eq!(
+        created.status(),
+        StatusCode::CREATED,
+        "creating works after the largest id"
+    );
+}
+
+/// Finding 1, stored data: a store an older build let reach the end of the id range is
+/// renumbered by a migration, and creating works again.
+#[tokio::test]
+async fn a_store_whose_ids_ran_past_the_range_is_migrated_and_can_create_again() {
+    let app = spawn_app().await;
+    let dir = app.dir.clone();
+    let kept = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    app.stop().await;
+    // As an older build left it: a norm at the last i64, the sequence exhausted, and the new
+    // migration not yet applied.
+    let probe = spawn_on(dir.clone(), Options::default()).await;
+    sql(
+        &probe,
+        "INSERT INTO norms (id, kind, term, revision) VALUES (9223372036854775807, 'forbidden_action', 'steal', 1);
+         UPDATE sqlite_sequence SET seq = 9223372036854775807 WHERE name = 'norms';
+         DELETE FROM _sqlx_migrations WHERE version = 20261201000001;",
+    )
+    .await;
+    probe.stop().await;
+
+    let app = spawn_on(dir, Options::default()).await;
+    let ids: Vec<i64> = app.norms().await.iter().map(|n| n["id"].as_i64().unwrap()).collect();
+    assert_eq!(
+        ids,
+        vec![kept, kept + 1],
+        "the norm beyond the range is renumbered after the others"
+    );
+    let steal = &app.norms().await[1];
+    assert_eq!(steal["action"], "steal");
+    let created = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "get"}))
+        .await;
+    assert_eq!(created, kept + 2);
+}
+
+/// Smaller finding: a "Hospital" norm did not apply to a "hospital" request, which was then
+/// complied with. Contexts and roles are matched normalised, however they were sent or stored.
+#[tokio::test]
+async fn contexts_and_roles_match_whatever_their_case_and_spacing() {
+    let app = spawn_app().await;
+    let norm = app
+        .add_norm(
+            &json!({"kind": "forbidden_action", "action": "get", "context": " Hospital Ward ", "roles": ["Visitor"]}),
+        )
+        .await;
+    let stored: Value = app.get(&format!("/v1/norms/{norm}")).await.json().await.unwrap();
+    assert_eq!(stored["context"], "hospital_ward");
+    assert_eq!(stored["roles"], json!(["visitor"]));
+    let request = |context: &str, role: &str| {
+        json!({
+            "directive": {"action": "get", "arguments": [{"type": "mug"}]},
+            "scene": lab_scene(),
+            "context": context,
+            "speaker_roles": [role],
+        })
+    };
+    for (context, role) in [
+        ("hospital_ward", "visitor"),
+        ("HOSPITAL   ward", "VISITOR"),
+        ("hospital_ward", " visitor"),
+    ] {
+        assert_eq!(
+            app.clarify(&request(context, role)).await["decision"],
+            "refuse",
+            "{context} / {role}"
+        );
+    }
+    assert_eq!(app.clarify(&request("hospital", "visitor")).await["decision"], "comply");
+
+    // Stored under the old rules, as written then: read normalised, so still in force.
+    sql(&app, "UPDATE norms SET context = 'Hospital Ward', roles_json = '[\"Visitor\"]'; UPDATE norm_set SET version = version + 1;").await;
+    assert_eq!(
+        app.clarify(&request("hospital_ward", "visitor")).await["decision"],
+        "refuse"
+    );
+    assert_eq!(app.norms().await[0]["context"], "hospital_ward");
+}
+
+fn cups(colours: &[&str]) -> Value {
+    let objects: Vec<Value> = colours
+        .iter()
+        .enumerate()
+        .map(|(i, colour)| {
+            json!({"id": format!("c{}", i + 1), "type": "cup", "attributes": {"color": colour},
+                   "position": [0.4, 0.1 * i as f64, 0.8]})
+        })
+        .collect();
+    json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects})
+}
+
+fn put_cup_on_cup(scene: Value) -> Value {
+    json!({"directive": {"action": "put", "arguments": [{"type": "cup"}, {"type": "cup"}]}, "scene": scene})
+}
+
+/// Finding 7: "Put the cup on the cup" with one cup was obeyed (`put(c1,c1)`).
+#[tokio::test]
+async fn an_object_is_never_put_on_itself() {
+    let app = spawn_app().await;
+    let one = app.clarify(&put_cup_on_cup(cups(&["red"]))).await;
+    assert_eq!(one["decision"], "refuse");
+    assert_eq!(one["goal"], Value::Null);
+    assert_eq!(
+        one["utterance"],
+        "I cannot put the cup on the cup because the cup cannot be put on itself."
+    );
+    assert_eq!(one["interpretations"][0]["reasons"][0]["kind"], "same_object");
+    assert_eq!(one["interpretations"][0]["reasons"][0]["detail"], "c1");
+
+    let two = app.clarify(&put_cup_on_cup(cups(&["red", "blue"]))).await;
+    assert_eq!(two["decision"], "ask");
+    assert_eq!(two["offered"], json!(["did(self,put(c2,c1))", "did(self,put(c1,c2))"]));
+    assert_eq!(
+        two["utterance"],
+        "Do you mean that you want me to put the blue cup on the red cup or that you want me to put the red cup on the blue cup?"
+    );
+
+    let check = app
+        .post("/v1/check", &json!({"scene": cups(&["red"]), "steps": ["put(c1,c1)"]}))
+        .await;
+    let check: Value = check.json().await.unwrap();
+    assert_eq!(check["permitted"], false);
+    assert_eq!(check["steps"][0]["reasons"][0]["kind"], "same_object");
+
+    // `distinct` is the verb's to declare, over the API; it needs two parameters.
+    let put: Value = app.get("/v1/actions/put").await.json().await.unwrap();
+    assert_eq!(put["distinct"], true);
+    let stack = json!({"parameters": ["X", "Y"], "joiner": "on", "distinct": true, "methods": [{"reach": ["X", "Y"]}]});
+    assert_eq!(
+        put_json(&app, "/v1/actions/stack", &stack).await.status(),
+        StatusCode::CREATED
+    );
+    let mut request = put_cup_on_cup(cups(&["red"]));
+    request["directive"]["action"] = json!("stack");
+    let stacked = app.clarify(&request).await;
+    assert_eq!(
+        stacked["utterance"],
+        "I cannot stack the cup on the cup because the cup cannot be stacked on itself."
+    );
+    let lone = json!({"parameters": ["X"], "distinct": true, "methods": [{}]});
+    assert_problem(
+        put_json(&app, "/v1/actions/lone", &lone).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/distinct"),
+    )
+    .await;
+}
