@@ -397,26 +397,26 @@ fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot
     }
 }
 
-/// Every combination of the slots' candidates (last slot fastest): the values and the score.
-fn combinations(slots: &[Slot]) -> Vec<(Vec<Term>, f64)> {
+/// Every combination of one candidate from each list (last list fastest): the values and the
+/// score.
+fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
     let mut out = Vec::new();
-    let mut choice = vec![0usize; slots.len()];
+    if lists.iter().any(|l| l.is_empty()) {
+        return out;
+    }
+    let mut choice = vec![0usize; lists.len()];
     loop {
-        let values = choice
-            .iter()
-            .zip(slots)
-            .map(|(&i, s)| s.candidates[i].0.clone())
-            .collect();
-        let score = choice.iter().zip(slots).map(|(&i, s)| s.candidates[i].1).product();
+        let values = choice.iter().zip(lists).map(|(&i, l)| l[i].0.clone()).collect();
+        let score = choice.iter().zip(lists).map(|(&i, l)| l[i].1).product();
         out.push((values, score));
-        let mut slot = slots.len();
+        let mut slot = lists.len();
         loop {
             if slot == 0 {
                 return out;
             }
             slot -= 1;
             choice[slot] += 1;
-            if choice[slot] < slots[slot].candidates.len() {
+            if choice[slot] < lists[slot].len() {
                 break;
             }
             choice[slot] = 0;
@@ -424,18 +424,80 @@ fn combinations(slots: &[Slot]) -> Vec<(Vec<Term>, f64)> {
     }
 }
 
-/// Whether a reading involves an object the answer names.
-fn answer_keeps(answer: &Answer, values: &[Term], scene: &Scene) -> bool {
-    values.iter().any(|value| {
-        let Some(object) = value.name().and_then(|id| scene.object(id)) else {
-            return false;
+/// Whether an object the answer names is this candidate.
+fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
+    let Some(object) = value.name().and_then(|id| scene.object(id)) else {
+        return false;
+    };
+    match answer {
+        Answer::Id(id) => &object.id == id,
+        Answer::Reference(reference) => reference.matches(object),
+        Answer::Choice(_) => true,
+    }
+}
+
+/// The readings a follow-up keeps (those with an argument the answer names), counted and built
+/// without going through the others: the answer narrows the readings before `max_readings` is
+/// applied, so five cups and "c2" are one reading, not five times five.
+struct Narrowed {
+    /// Per slot: the candidates the answer names, and the others.
+    named: Vec<Vec<(Term, f64)>>,
+    others: Vec<Vec<(Term, f64)>>,
+}
+
+impl Narrowed {
+    fn new(answer: &Answer, slots: &[Slot], scene: &Scene) -> Narrowed {
+        let (named, others) = slots
+            .iter()
+            .map(|s| {
+                s.candidates
+                    .iter()
+                    .cloned()
+                    .partition(|(t, _)| answer_names(answer, t, scene))
+            })
+            .unzip();
+        Narrowed { named, others }
+    }
+
+    /// All combinations less those that name nothing the answer names.
+    fn count(&self) -> u128 {
+        let product = |lists: &[Vec<(Term, f64)>], with: &[Vec<(Term, f64)>]| {
+            lists
+                .iter()
+                .zip(with)
+                .try_fold(1u128, |n, (a, b)| n.checked_mul((a.len() + b.len()) as u128))
         };
-        match answer {
-            Answer::Id(id) => &object.id == id,
-            Answer::Reference(reference) => reference.matches(object),
-            Answer::Choice(_) => true,
+        let none = self
+            .others
+            .iter()
+            .try_fold(1u128, |n, l| n.checked_mul(l.len() as u128));
+        match (product(&self.named, &self.others), none) {
+            (Some(all), Some(none)) => all - none,
+            _ => u128::MAX,
         }
-    })
+    }
+
+    /// Each kept combination once: slot `i` is the first whose value the answer names.
+    fn combinations(&self) -> Vec<(Vec<Term>, f64)> {
+        let all: Vec<Vec<(Term, f64)>> = self
+            .named
+            .iter()
+            .zip(&self.others)
+            .map(|(a, b)| a.iter().chain(b).cloned().collect())
+            .collect();
+        let mut out = Vec::new();
+        for first in 0..self.named.len() {
+            let lists: Vec<&[(Term, f64)]> = (0..self.named.len())
+                .map(|j| match j.cmp(&first) {
+                    std::cmp::Ordering::Less => self.others[j].as_slice(),
+                    std::cmp::Ordering::Equal => self.named[j].as_slice(),
+                    std::cmp::Ordering::Greater => all[j].as_slice(),
+                })
+                .collect();
+            out.extend(combinations(&lists));
+        }
+        out
+    }
 }
 
 /// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
@@ -474,10 +536,17 @@ pub fn clarify(
     if !missing.is_empty() {
         return Ok(finish(Plan::Unresolved(missing), Vec::new(), None, &mut describer));
     }
-    let count = slots
-        .iter()
-        .try_fold(1u128, |acc, s| acc.checked_mul(s.candidates.len() as u128))
-        .unwrap_or(u128::MAX);
+    let narrowed = match &request.answer {
+        Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => Some(Narrowed::new(answer, &slots, scene)),
+        _ => None,
+    };
+    let count = match &narrowed {
+        Some(narrowed) => narrowed.count(),
+        None => slots
+            .iter()
+            .try_fold(1u128, |acc, s| acc.checked_mul(s.candidates.len() as u128))
+            .unwrap_or(u128::MAX),
+    };
     if count > options.max_readings as u128 {
         // Too ambiguous to simulate: name the references that have more than one candidate.
         let nouns = slots
@@ -498,12 +567,12 @@ pub fn clarify(
         ));
     }
 
-    let mut readings: Vec<Interpretation> = combinations(&slots)
+    let chosen = match &narrowed {
+        Some(narrowed) => narrowed.combinations(),
+        None => combinations(&slots.iter().map(|s| s.candidates.as_slice()).collect::<Vec<_>>()),
+    };
+    let mut readings: Vec<Interpretation> = chosen
         .into_iter()
-        .filter(|(values, _)| match &request.answer {
-            Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => answer_keeps(answer, values, scene),
-            _ => true,
-        })
         .map(|(values, score)| {
             let action = template.action(&values);
             Interpretation {
