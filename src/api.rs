@@ -10,6 +10,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use crate::engine::action::verb_name;
 use crate::engine::check::Check;
 use crate::engine::clarify::{
     Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Decision, Directive, Interpretation, Limits, Options,
@@ -597,7 +598,8 @@ fn constant(field: &str, text: &str, what: &str) -> Result<(), Error> {
             format!("{what} is longer than {MAX_NAME_LEN} bytes"),
         ));
     }
-    if !is_constant_name(text) {
+    // A name with no letter or digit (`_`, `__`) is spoken as nothing: "the  is out of reach".
+    if !is_constant_name(text) || !text.chars().any(|c| c.is_ascii_alphanumeric()) {
         return Err(Error::invalid(
             field,
             format!(
@@ -821,7 +823,12 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
             match actor {
                 Term::Const(a) if &**a == "self" || &**a == agent => {}
                 _ => {
-                    return Err(format!("did(A,...) must name the agent: `self` or `{agent}`"));
+                    let names = if agent == "self" {
+                        "`self`".to_owned()
+                    } else {
+                        format!("`self` or `{agent}`")
+                    };
+                    return Err(format!("did(A,...) must name the agent: {names}"));
                 }
             }
             action.clone()
@@ -843,7 +850,7 @@ impl DirectiveBody {
                 "needs `action` (with `arguments`) or `form` (with `bindings`)",
             )),
             (Some(verb), None) => {
-                constant("/directive/action", &verb, "the action")?;
+                verb_name(&verb).map_err(|m| Error::invalid("/directive/action", m))?;
                 if self.bindings.is_some() {
                     return Err(Error::invalid(
                         "/directive/bindings",
@@ -869,6 +876,9 @@ impl DirectiveBody {
                 let form = request_term("/directive/form", &text, limits)?;
                 let (speaker, action) =
                     unwrap_form(&form, &scene.agent.id).map_err(|m| Error::invalid("/directive/form", m))?;
+                if let Some(name) = action.name() {
+                    verb_name(name).map_err(|m| Error::invalid("/directive/form", m))?;
+                }
                 let variables = action.variables();
                 let given = self.bindings.unwrap_or_default();
                 for name in given.keys() {
@@ -1168,6 +1178,9 @@ impl CheckInput {
                 let step = request_term(&field, text, limits)?;
                 if step.is_var() || !step.is_ground() {
                     return Err(Error::invalid(field, "a step is a ground action, such as get(object4)"));
+                }
+                if let Some(name) = step.name() {
+                    verb_name(name).map_err(|m| Error::invalid(&field, m))?;
                 }
                 Ok(step)
             })

@@ -147,6 +147,27 @@ fn action_error(field: impl Into<String>, message: impl Into<String>) -> ActionE
     }
 }
 
+/// Longest verb name, bytes: the same bound wherever a verb is named (a stored verb, a
+/// directive's action, a form, a step), so that any verb a request can name can be defined.
+pub const MAX_VERB_LEN: usize = 64;
+
+/// Checks a verb's name; the message says what is wrong.
+pub fn verb_name(name: &str) -> Result<(), String> {
+    if name.len() > MAX_VERB_LEN {
+        return Err(format!(
+            "a verb name is at most {MAX_VERB_LEN} bytes; this one is {}",
+            name.len()
+        ));
+    }
+    // A letter first: a verb is spoken, and `_` or `3d` would be no word at all.
+    if !(is_constant_name(name) && name.starts_with(|c: char| c.is_ascii_lowercase())) {
+        return Err(format!(
+            "`{name}` is not a verb name (lower-case first, then letters, digits, `_`)"
+        ));
+    }
+    Ok(())
+}
+
 pub const MAX_METHODS: usize = 8;
 pub const MAX_ITEMS: usize = 32;
 
@@ -161,12 +182,7 @@ impl ActionInput {
                 format!("`{given}` differs from the verb `{name}` it is stored as"),
             ));
         }
-        if !is_constant_name(name) || name.len() > 64 {
-            return Err(action_error(
-                "/name",
-                format!("`{name}` is not a verb name (lower-case first, then letters, digits, `_`)"),
-            ));
-        }
+        verb_name(name).map_err(|m| action_error("/name", m))?;
         if self.parameters.len() > 8 {
             return Err(action_error("/parameters", "at most 8 parameters"));
         }

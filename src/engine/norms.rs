@@ -166,7 +166,13 @@ impl NormInput {
                 let text = self
                     .action
                     .ok_or_else(|| norm_error("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
-                parse_literal("/action", &text, "an action")?
+                let action = parse_literal("/action", &text, "an action")?;
+                // A norm on a verb no library can hold applies nowhere, and its words would be
+                // empty ("_ is forbidden action").
+                if let Some(name) = action.name() {
+                    super::action::verb_name(name).map_err(|m| norm_error("/action", m))?;
+                }
+                action
             }
             NormKind::ForbiddenState => {
                 if self.action.is_some() {

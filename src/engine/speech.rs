@@ -189,6 +189,23 @@ fn participle(verb: &str) -> String {
     }
 }
 
+/// "which cup", then for the same noun again "which other cup", "which third cup": never the
+/// same words twice ("which cup and which cup").
+fn which(nouns: &[String]) -> Vec<String> {
+    const AGAIN: [&str; 7] = ["other", "third", "fourth", "fifth", "sixth", "seventh", "eighth"];
+    nouns
+        .iter()
+        .enumerate()
+        .map(|(i, noun)| match nouns[..i].iter().filter(|n| *n == noun).count() {
+            0 => format!("which {noun}"),
+            seen => match AGAIN.get(seen - 1) {
+                Some(word) => format!("which {word} {noun}"),
+                None => format!("which {noun} ({})", seen + 1),
+            },
+        })
+        .collect()
+}
+
 /// A precondition that does not hold, in words: `open(box1)` → "the box is not open";
 /// `color(box1,red)` → "the color of the box is not red"; anything else canonical.
 fn not_the_case(fact: &Term, describer: &mut Describer<'_>) -> String {
@@ -392,10 +409,7 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
                 readings.join(" or that you want me to ")
             )
         }
-        Plan::AskWhich { nouns } => {
-            let which: Vec<String> = nouns.iter().map(|n| format!("which {n}")).collect();
-            format!("I do not know {} you mean.", which.join(" and "))
-        }
+        Plan::AskWhich { nouns } => format!("I do not know {} you mean.", which(nouns).join(" and ")),
         Plan::Assume { chosen, others: rest } => format!(
             "I am assuming you want me to {}.{}",
             all[*chosen].reading,
@@ -443,10 +457,7 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
             }
             format!("Do you want me to {lead}{}?", listed(&items, "or"))
         }
-        Plan::AskWhich { nouns } => {
-            let which: Vec<String> = nouns.iter().map(|n| format!("which {n}")).collect();
-            format!("{} do you mean?", capitalise(&listed(&which, "and")))
-        }
+        Plan::AskWhich { nouns } => format!("{} do you mean?", capitalise(&listed(&which(nouns), "and"))),
         Plan::Assume { chosen, others: rest } => {
             format!("I'll {}.{}", all[*chosen].reading, others(rest, describer))
         }

@@ -206,3 +206,147 @@ async fn an_object_is_never_put_on_itself() {
     )
     .await;
 }
+
+/// Finding 11: verbs of 65 to 128 bytes could be used in a clarify but never defined (PUT
+/// answered 404). One bound, 64 bytes, everywhere a verb is named.
+#[tokio::test]
+async fn a_verb_name_is_at_most_64_bytes_wherever_it_is_named() {
+    let app = spawn_app().await;
+    let longest = "v".repeat(64);
+    let over = "v".repeat(65);
+    let verb = json!({"parameters": ["X"], "methods": [{}]});
+    assert_eq!(
+        put_json(&app, &format!("/v1/actions/{longest}"), &verb).await.status(),
+        StatusCode::CREATED
+    );
+    let problem = assert_problem(
+        put_json(&app, &format!("/v1/actions/{over}"), &verb).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/name"),
+    )
+    .await;
+    assert!(problem["detail"].as_str().unwrap().contains("64 bytes"), "{problem}");
+    let scene = lab_scene();
+    let cases = [
+        (
+            json!({"directive": {"action": over, "arguments": [{"type": "mug"}]}, "scene": scene}),
+            "/directive/action",
+        ),
+        (
+            json!({"directive": {"form": format!("did(self,{over}(X))"), "bindings": {"X": ["object5"]}}, "scene": scene}),
+            "/directive/form",
+        ),
+    ];
+    for (body, field) in cases {
+        assert_problem(
+            app.post("/v1/clarify", &body).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+    }
+    let check = json!({"scene": scene, "steps": ["get(object5)", format!("{over}(object5)")]});
+    assert_problem(
+        app.post("/v1/check", &check).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/steps/1"),
+    )
+    .await;
+    let used = json!({"directive": {"action": longest, "arguments": [{"type": "mug"}]}, "scene": scene});
+    assert_eq!(app.clarify(&used).await["decision"], "comply");
+}
+
+/// Finding 12: with five cups and `max_readings: 4`, the answer "c2" was ignored and the robot
+/// asked again. The answer narrows the readings before the limit applies.
+#[tokio::test]
+async fn a_follow_up_narrows_the_readings_before_max_readings_applies() {
+    let app = spawn_app().await;
+    let scene = cups(&["red", "blue", "green", "white", "black"]);
+    let mut request = json!({
+        "directive": {"action": "get", "arguments": [{"type": "cup"}]},
+        "scene": scene,
+        "options": {"max_readings": 4},
+    });
+    let asked = app.clarify(&request).await;
+    assert_eq!(asked["limits"]["reason"], "too_many_readings");
+    request["answer"] = json!({"id": "c2"});
+    let answered = app.clarify(&request).await;
+    assert_eq!(answered["decision"], "comply");
+    assert_eq!(answered["goal"], "did(self,get(c2))");
+    assert_eq!(answered["limits"], Value::Null);
+    // Putting a cup on a cup: "the blue one" keeps the 9 readings that involve c2 (5 + 5 − 1,
+    // c2 on itself among them, which is infeasible): within 9, but not within 4.
+    let mut put = put_cup_on_cup(scene.clone());
+    put["options"] = json!({"max_readings": 9});
+    put["answer"] = json!({"reference": {"attributes": {"color": "blue"}}});
+    let narrowed = app.clarify(&put).await;
+    assert_eq!(narrowed["limits"], Value::Null, "{narrowed}");
+    assert_eq!(narrowed["interpretations"].as_array().unwrap().len(), 9);
+    assert_eq!(narrowed["decision"], "ask");
+    put["options"] = json!({"max_readings": 4});
+    assert_eq!(app.clarify(&put).await["limits"]["reason"], "too_many_readings");
+}
+
+/// Wording: "`self` or `self`" when the agent is `self`.
+#[tokio::test]
+async fn a_form_for_another_agent_names_the_agent_once() {
+    let app = spawn_app().await;
+    let body =
+        json!({"directive": {"form": "did(pepper,get(X))", "bindings": {"X": ["object5"]}}, "scene": lab_scene()});
+    let problem = assert_problem(
+        app.post("/v1/clarify", &body).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/directive/form"),
+    )
+    .await;
+    assert_eq!(problem["detail"], "did(A,...) must name the agent: `self`");
+}
+
+/// Wording: inputs that produced empty or repeated words ("I cannot  because _ is forbidden
+/// action.", "which cup and which cup") get sentences or clear errors.
+#[tokio::test]
+async fn no_answer_speaks_empty_or_repeated_words() {
+    let app = spawn_app().await;
+    let norm = json!({"kind": "forbidden_action", "action": "_"});
+    assert_problem(
+        app.post("/v1/norms", &norm).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/action"),
+    )
+    .await;
+    let verb = json!({"parameters": ["X"], "methods": [{}]});
+    assert_problem(
+        put_json(&app, "/v1/actions/_", &verb).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/name"),
+    )
+    .await;
+    let mut blank = json!({"directive": {"action": "get", "arguments": [{"type": "_"}]}, "scene": lab_scene()});
+    assert_problem(
+        app.post("/v1/clarify", &blank).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/directive/arguments/0/type"),
+    )
+    .await;
+    blank["scene"]["objects"][0]["type"] = json!("__");
+    blank["directive"]["arguments"][0]["type"] = json!("vase");
+    assert_problem(
+        app.post("/v1/clarify", &blank).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/scene/objects/0/type"),
+    )
+    .await;
+
+    let mut put = put_cup_on_cup(cups(&["red", "blue", "green"]));
+    put["options"] = json!({"max_readings": 4});
+    let asked = app.clarify(&put).await;
+    assert_eq!(
+        asked["utterance"],
+        "I do not know which cup and which other cup you mean."
+    );
+    put["options"]["style"] = json!("natural");
+    assert_eq!(
+        app.clarify(&put).await["utterance"],
+        "Which cup and which other cup do you mean?"
+    );
+}

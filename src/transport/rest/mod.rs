@@ -449,7 +449,7 @@ async fn check(State(app): State<AppState>, JsonBody(body): JsonBody<CheckBody>)
 
 /// A verb name from the path.
 fn verb_name(text: &str) -> Result<&str, Error> {
-    if text.is_empty() || text.len() > 64 {
+    if text.is_empty() || text.len() > crate::engine::action::MAX_VERB_LEN {
         return Err(Error::NotFound {
             what: format!("verb `{text}`"),
         });
@@ -511,7 +511,9 @@ async fn put_action(
     Path(name): Path<String>,
     JsonBody(body): JsonBody<ActionInput>,
 ) -> Result<Response, Error> {
-    let (stored, created) = app.core.put_action(verb_name(&name)?, body, &actor).await?;
+    // Not `verb_name`: a name that cannot be a verb is a 422 at `/name`, never a 404 (PUT
+    // documents none).
+    let (stored, created) = app.core.put_action(&name, body, &actor).await?;
     let status = if created { StatusCode::CREATED } else { StatusCode::OK };
     Ok((status, Json(stored)).into_response())
 }
