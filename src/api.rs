@@ -535,6 +535,16 @@ fn request_term(field: &str, text: &str, limits: &RequestLimits) -> Result<Term,
 }
 
 impl ClarifyInput {
+    /// The verb the directive names and its arity (a form's action), for its expansion cost.
+    pub fn verb(&self) -> (String, usize) {
+        match &self.request.directive {
+            Directive::Action { verb, arguments } => (verb.clone(), arguments.len()),
+            Directive::Form { action, .. } => {
+                (action.name().map(|n| n.to_string()).unwrap_or_default(), action.arity())
+            }
+        }
+    }
+
     /// An upper bound on the readings this request can have, from its arguments' possible
     /// candidates (every object for a reference, the bindings for a variable), before resolving.
     pub fn at_most_readings(&self) -> u128 {
@@ -1146,6 +1156,11 @@ pub struct CheckOptionsBody {
     /// `diarc` (default) or `natural`.
     #[serde(default)]
     pub style: Option<StyleBody>,
+    /// Milliseconds the check may take, from the request's arrival (1..=60000, default 2000);
+    /// past it, the steps not checked to the end are not permitted and `limits` says so.
+    #[serde(default)]
+    #[schema(minimum = 1, maximum = 60000)]
+    pub deadline_ms: Option<u64>,
 }
 
 pub const MAX_STEPS: usize = 1000;
@@ -1158,6 +1173,8 @@ pub struct CheckInput {
     pub context: String,
     pub speaker_roles: Vec<String>,
     pub style: Style,
+    /// How long the check may take, from the request's arrival.
+    pub deadline: std::time::Duration,
 }
 
 impl CheckInput {
@@ -1185,16 +1202,24 @@ impl CheckInput {
                 Ok(step)
             })
             .collect::<Result<_, _>>()?;
-        let style = match body.options.and_then(|o| o.style) {
+        let options = body.options.unwrap_or_default();
+        let style = match options.style {
             None | Some(StyleBody::Diarc) => Style::Diarc,
             Some(StyleBody::Natural) => Style::Natural,
         };
+        let deadline_ms = ranged(
+            "/options/deadline_ms",
+            options.deadline_ms,
+            1..=limits.max_deadline_ms,
+            limits.default_deadline_ms,
+        )?;
         Ok(CheckInput {
             scene,
             steps,
             context,
             speaker_roles,
             style,
+            deadline: std::time::Duration::from_millis(deadline_ms),
         })
     }
 }
@@ -1217,6 +1242,9 @@ pub struct CheckDto {
     /// "Okay.", or why not the first step that may not be done.
     pub utterance: String,
     pub norm_version: i64,
+    /// Present when the deadline kept steps from being checked to the end.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub limits: Option<LimitsDto>,
 }
 
 impl From<&Check> for CheckDto {
@@ -1236,6 +1264,7 @@ impl From<&Check> for CheckDto {
                 .collect(),
             utterance: check.utterance.clone(),
             norm_version: check.norm_version,
+            limits: check.limits.as_ref().map(LimitsDto::from),
         }
     }
 }

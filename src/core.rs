@@ -4,6 +4,7 @@
 //! Owns: the caches of compiled norms and of the action library (each refreshed only when its
 //! stored version moves) and failing closed when either cannot be read. Must not: parse wire formats or know which transport asked.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 use std::time::Instant;
 
@@ -17,8 +18,45 @@ use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
-/// Requests with at most this many readings are decided on the calling task (see `clarify`).
-const INLINE_READINGS: u128 = 16;
+/// Requests that may cost at most this many simulated steps (readings × the verb's expansion)
+/// are decided on the calling task (see `clarify`); the rest go to the blocking pool, so a
+/// costly one never holds a runtime thread that health checks need.
+const INLINE_STEPS: u128 = 32;
+
+/// Set when the request's future is dropped (its client went away): the decision it started
+/// stops at its next step instead of keeping a core busy for nobody.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Counts a simulation in `simulations_in_flight` while it runs.
+struct InFlight<'a>(&'a Metrics);
+
+impl<'a> InFlight<'a> {
+    fn new(metrics: &'a Metrics) -> Self {
+        metrics.in_flight.inc();
+        InFlight(metrics)
+    }
+}
+
+impl Drop for InFlight<'_> {
+    fn drop(&mut self) {
+        self.0.in_flight.dec();
+    }
+}
+
+/// What ends a decision early: its deadline, or its client leaving. The guard must live as long
+/// as the request's future.
+fn stop_signal(deadline: Instant) -> (CancelOnDrop, impl Fn() -> bool + Send + Sync + 'static) {
+    let cancelled = Arc::new(AtomicBool::new(false));
+    let flag = cancelled.clone();
+    let expired = move || flag.load(Ordering::Relaxed) || Instant::now() >= deadline;
+    (CancelOnDrop(cancelled), expired)
+}
 
 pub struct Core {
     store: Arc<dyn NormStore>,
@@ -97,12 +135,17 @@ impl Core {
     /// Decides what to say about a directive. Fails closed: without readable norms, no decision.
     /// The engine runs on the blocking pool, so a large request does not stall other requests;
     /// its deadline counts from here.
-    pub async fn clarify(&self, input: ClarifyInput) -> Result<Decision, Error> {
-        let deadline = Instant::now() + input.deadline;
-        let small = input.at_most_readings() <= INLINE_READINGS;
+    pub async fn clarify(&self, input: ClarifyInput, arrived: Instant) -> Result<Decision, Error> {
+        let (_guard, expired) = stop_signal(arrived + input.deadline);
         let (norms, library) = self.knowledge().await?;
+        let (verb, arity) = input.verb();
+        let steps = input
+            .at_most_readings()
+            .saturating_mul(u128::from(library.expansion(&verb, arity)));
+        let small = steps <= INLINE_STEPS;
+        let metrics = self.metrics.clone();
         let decide = move || {
-            let expired = || Instant::now() >= deadline;
+            let _running = InFlight::new(&metrics);
             clarify(&input.request, &input.scene, &norms, &library, &expired)
         };
         // A small request (most are) is decided in microseconds: handing it to another thread
@@ -123,14 +166,25 @@ impl Core {
     }
 
     /// Checks steps while acting, under the norms in force now. Fails closed like `clarify`.
-    pub async fn check(&self, input: CheckInput) -> Result<Check, Error> {
+    pub async fn check(&self, input: CheckInput, arrived: Instant) -> Result<Check, Error> {
+        let (_guard, expired) = stop_signal(arrived + input.deadline);
         let (norms, library) = self.knowledge().await?;
+        let metrics = self.metrics.clone();
         tokio::task::spawn_blocking(move || {
+            let _running = InFlight::new(&metrics);
             let scope = Scope {
                 context: &input.context,
                 roles: &input.speaker_roles,
             };
-            check(&input.steps, &input.scene, &norms, &library, scope, input.style)
+            check(
+                &input.steps,
+                &input.scene,
+                &norms,
+                &library,
+                scope,
+                input.style,
+                &expired,
+            )
         })
         .await
         .map_err(|e| Error::Internal(format!("the check task failed: {e}")))
@@ -224,10 +278,14 @@ impl Core {
         let written = def.to_input();
         let this = name.to_owned();
         let accept = move |all: &[StoredAction]| {
-            Library::from_written(0, all).map(|_| ()).map_err(|(verb, e)| {
-                let field = if verb == this { e.field } else { "/methods".to_owned() };
-                Error::invalid(field, format!("{}: {}", verb, e.message))
-            })
+            // The expansion bound holds for what is written from now on; a library stored before
+            // it still loads, and the deadline bounds its cost.
+            Library::from_written(0, all)
+                .and_then(|library| library.check_expansion(&this))
+                .map_err(|(verb, e)| {
+                    let field = if verb == this { e.field } else { "/methods".to_owned() };
+                    Error::invalid(field, format!("{}: {}", verb, e.message))
+                })
         };
         let created = self.store.put_action(name, &written, &accept, actor).await??;
         Ok((written, created))

@@ -9,6 +9,7 @@ use prometheus_client::encoding::EncodeLabelSet;
 use prometheus_client::encoding::text::encode;
 use prometheus_client::metrics::counter::Counter;
 use prometheus_client::metrics::family::Family;
+use prometheus_client::metrics::gauge::Gauge;
 use prometheus_client::metrics::histogram::{Histogram, exponential_buckets};
 use prometheus_client::registry::Registry;
 
@@ -71,6 +72,9 @@ pub struct Metrics {
     pub cache: Family<CacheLabels, Counter>,
     /// Requests refused by admission control (503 / UNAVAILABLE).
     pub overloaded: Counter,
+    /// Decisions and checks being simulated right now; work whose client left stops within a
+    /// step, so this falls back at once.
+    pub in_flight: Gauge,
 }
 
 impl Default for Metrics {
@@ -120,7 +124,14 @@ impl Metrics {
             "Requests refused by admission control (503 with Retry-After, gRPC UNAVAILABLE)",
             overloaded.clone(),
         );
+        let in_flight = Gauge::default();
+        registry.register(
+            "simulations_in_flight",
+            "Decisions and checks being simulated now (abandoned ones stop within a step)",
+            in_flight.clone(),
+        );
         Metrics {
+            in_flight,
             registry,
             requests,
             latency,

@@ -345,6 +345,12 @@ impl ActionDef {
     }
 }
 
+/// Most steps one reading of a verb may cost to simulate, counted as the simulation tries them:
+/// every step of every method (a reading whose first method fails tries the next), each call
+/// of another verb at that verb's own cost. Checked when a verb is stored, so that no directive
+/// can expand into millions of steps (five verbs of 8 methods × 4 steps over each other did).
+pub const MAX_EXPANSION: u64 = 10_000;
+
 /// Verbs by name and arity.
 #[derive(Clone, Debug, Default)]
 pub struct Library {
@@ -408,6 +414,72 @@ impl Library {
             library.insert(def).map_err(|e| (name.clone(), e))?;
         }
         Ok(library)
+    }
+
+    /// The steps one reading of `name/arity` may cost (see [`MAX_EXPANSION`]), saturating; an
+    /// unknown verb costs one step (it is found unknown). The library has no cycles.
+    pub fn expansion(&self, name: &str, arity: usize) -> u64 {
+        self.expansion_with(&(Sym::from(name), arity), &mut HashMap::new())
+    }
+
+    fn expansion_with(&self, key: &(Sym, usize), memo: &mut HashMap<(Sym, usize), u64>) -> u64 {
+        if let Some(&cost) = memo.get(key) {
+            return cost;
+        }
+        let Some(def) = self.defs.get(key) else { return 1 };
+        let cost = def
+            .methods
+            .iter()
+            .map(|m| self.method_expansion(m, memo))
+            .fold(0u64, u64::saturating_add);
+        memo.insert(key.clone(), cost);
+        cost
+    }
+
+    fn method_expansion(&self, method: &Method, memo: &mut HashMap<(Sym, usize), u64>) -> u64 {
+        method
+            .steps
+            .iter()
+            .map(|step| match step {
+                Step::Itself => 1,
+                Step::Do(t) => match t.name() {
+                    Some(n) => self.expansion_with(&(n.clone(), t.arity()), memo),
+                    None => 1,
+                },
+            })
+            .fold(0u64, u64::saturating_add)
+    }
+
+    /// Refuses a library in which some verb expands past [`MAX_EXPANSION`] steps: the error names
+    /// the verb and the costliest of its methods. `first` (the verb being stored) is looked at
+    /// before the verbs that call it, which then cost more still.
+    pub fn check_expansion(&self, first: &str) -> Result<(), (String, ActionError)> {
+        let mut memo = HashMap::new();
+        let mut verbs = self.verbs();
+        verbs.sort_by_key(|d| &*d.name != first);
+        for def in verbs {
+            let key = (def.name.clone(), def.params.len());
+            let cost = self.expansion_with(&key, &mut memo);
+            if cost > MAX_EXPANSION {
+                let (worst, worst_cost) = def
+                    .methods
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| (i, self.method_expansion(m, &mut memo)))
+                    .fold((0, 0), |best, (i, c)| if c > best.1 { (i, c) } else { best });
+                return Err((
+                    def.name.to_string(),
+                    action_error(
+                        format!("/methods/{worst}"),
+                        format!(
+                            "a reading of `{}` would expand to {cost} steps (this method {worst_cost}); at most {MAX_EXPANSION} are allowed",
+                            def.name
+                        ),
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     pub fn get(&self, name: &str, arity: usize) -> Option<&ActionDef> {

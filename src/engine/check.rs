@@ -6,10 +6,11 @@
 use std::sync::Arc;
 
 use super::action::Library;
+use super::clarify::{LimitKind, Limits};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::scene::Scene;
-use super::simulate::{Env, Outcome, simulate_from};
+use super::simulate::{Env, Outcome, Reason, simulate_from};
 use super::speech::{self, Style};
 use super::term::Term;
 use super::world::{Base, World};
@@ -31,14 +32,19 @@ pub struct Check {
     /// "Okay." when every step may be done; otherwise why not the first step that may not.
     pub utterance: String,
     pub norm_version: i64,
+    /// Set when the deadline kept steps from being checked to the end (`simulated` counts the
+    /// steps checked fully); the check is then not permitted.
+    pub limits: Option<Limits>,
 }
 
 impl Check {
-    /// Every step is permissible and feasible.
+    /// Every step was checked and is permissible and feasible.
     pub fn permitted(&self) -> bool {
-        self.steps
-            .iter()
-            .all(|s| s.outcome.permissible() && s.outcome.feasible())
+        self.limits.is_none()
+            && self
+                .steps
+                .iter()
+                .all(|s| s.outcome.permissible() && s.outcome.feasible())
     }
 }
 
@@ -50,17 +56,23 @@ pub fn check(
     library: &Library,
     scope: Scope<'_>,
     style: Style,
+    expired: &(dyn Fn() -> bool + Sync),
 ) -> Check {
     let env = Env {
         scene,
         norms,
         library,
         scope,
+        expired,
     };
     let mut describer = Describer::new(scene, library);
     let mut world = World::new(Arc::new(Base::new(scene.all_facts())));
     let mut checked = Vec::with_capacity(steps.len());
     for step in steps {
+        // Past the deadline no further step is begun: the check says how far it got.
+        if !checked.is_empty() && expired() {
+            break;
+        }
         let (outcome, after) = simulate_from(&env, world, step);
         world = after;
         let reason_words = outcome
@@ -75,22 +87,36 @@ pub fn check(
             reason_words,
         });
     }
-    let utterance = match checked
+    let done = checked.iter().filter(|s| !s.outcome.unfinished()).count();
+    let limits = (done < steps.len()).then_some(Limits {
+        kind: LimitKind::Deadline,
+        readings: steps.len() as u128,
+        simulated: done,
+    });
+    let first_refused = checked
         .iter()
         .find(|s| !(s.outcome.permissible() && s.outcome.feasible()))
-    {
+        .map(|s| (s.reading.clone(), s.reason_words[0].clone()));
+    // Steps never begun (the deadline) are not "okay": the first of them is why not.
+    let not_begun = || {
+        let step = &steps[checked.len()];
+        let why = speech::reason_words(&Reason::unfinished(), style, &mut describer);
+        (describer.reading(step), why)
+    };
+    let utterance = match first_refused.or_else(|| (checked.len() < steps.len()).then(not_begun)) {
         None => match style {
             Style::Diarc => "Okay.".to_owned(),
             Style::Natural => "Okay, I can go on.".to_owned(),
         },
-        Some(first) => match style {
-            Style::Diarc => format!("I cannot {} because {}.", first.reading, first.reason_words[0]),
-            Style::Natural => format!("I can't go on to {}: {}.", first.reading, first.reason_words[0]),
+        Some((reading, why)) => match style {
+            Style::Diarc => format!("I cannot {reading} because {why}."),
+            Style::Natural => format!("I can't go on to {reading}: {why}."),
         },
     };
     Check {
         steps: checked,
         utterance,
         norm_version: norms.version,
+        limits,
     }
 }

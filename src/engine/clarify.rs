@@ -508,7 +508,7 @@ pub fn clarify(
     scene: &Scene,
     norms: &CompiledNorms,
     library: &Library,
-    expired: &dyn Fn() -> bool,
+    expired: &(dyn Fn() -> bool + Sync),
 ) -> Result<Decision, EngineError> {
     let speaker = Term::Const(request.speaker.clone());
     let options = request.options;
@@ -608,6 +608,7 @@ pub fn clarify(
             context: &request.context,
             roles: &request.speaker_roles,
         },
+        expired,
     };
     let total = readings.len();
     let simulate_one = |reading: &mut Interpretation| {
@@ -631,11 +632,18 @@ pub fn clarify(
         }
         simulated = end;
     }
-    readings.truncate(simulated);
-    let limits = (simulated < total).then_some(Limits {
+    // Readings the deadline cut short mid-plan are not simulated: only those finished before
+    // the first such one are kept, in the contract's order. A lone reading cut short is kept,
+    // infeasible (`unfinished`), so that the robot can say why it will not act.
+    let finished = readings[..simulated]
+        .iter()
+        .position(|r| r.outcome.unfinished())
+        .unwrap_or(simulated);
+    readings.truncate(if total == 1 { simulated } else { finished });
+    let limits = (finished < total).then_some(Limits {
         kind: LimitKind::Deadline,
         readings: total as u128,
-        simulated,
+        simulated: finished,
     });
 
     let mut plan = decide(options, &readings, &slots, limits.is_some());
@@ -692,14 +700,16 @@ fn decide(options: Options, all: &[Interpretation], slots: &[Slot], incomplete: 
     if incomplete {
         // Unsimulated readings remain: never assume, obey or explain on a partial view; name
         // only simulated acceptable readings, and say there may be something else.
-        return if good.is_empty() {
-            Plan::AskWhich {
-                nouns: slots
-                    .iter()
-                    .filter(|s| s.candidates.len() > 1)
-                    .map(|s| s.noun.clone())
-                    .collect(),
-            }
+        let nouns: Vec<String> = slots
+            .iter()
+            .filter(|s| s.candidates.len() > 1)
+            .map(|s| s.noun.clone())
+            .collect();
+        return if all.len() == 1 && all[0].outcome.unfinished() {
+            // The one reading, cut short by the deadline: refused, saying so.
+            Plan::Refuse(0)
+        } else if good.is_empty() {
+            Plan::AskWhich { nouns }
         } else {
             Plan::Ask {
                 offered: good.into_iter().take(FEW.min(options.max_spoken)).collect(),

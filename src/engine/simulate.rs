@@ -38,6 +38,9 @@ pub enum Cause {
     Precondition { fact: Term },
     /// The plan expands deeper than [`MAX_PLAN_DEPTH`].
     PlanTooDeep { step: Term },
+    /// The request's deadline passed (or its client went away) before the simulation ended: what
+    /// was not simulated cannot be vouched for, so the reading is never offered or obeyed.
+    Unfinished,
     /// A verb whose arguments must be distinct names one object twice: a cup put on itself.
     SameObject {
         verb: Sym,
@@ -57,6 +60,11 @@ pub struct Reason {
 }
 
 impl Reason {
+    /// The reason a reading cut short by the deadline carries.
+    pub fn unfinished() -> Reason {
+        Reason::infeasible(Cause::Unfinished)
+    }
+
     fn infeasible(cause: Cause) -> Reason {
         Reason {
             cause,
@@ -80,6 +88,7 @@ impl Reason {
             Cause::Precondition { .. } => "precondition",
             Cause::PlanTooDeep { .. } => "plan_too_deep",
             Cause::SameObject { .. } => "same_object",
+            Cause::Unfinished => "unfinished",
         }
     }
 
@@ -96,6 +105,7 @@ impl Reason {
             Cause::NoRoom { item, support } => format!("no room for {item} on {support}"),
             Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
             Cause::SameObject { object, .. } => object.to_string(),
+            Cause::Unfinished => "deadline".to_owned(),
         }
     }
 
@@ -118,6 +128,7 @@ impl Reason {
             Cause::Precondition { fact } => ("precondition", fact.clone()),
             Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
             Cause::SameObject { object, .. } => ("sameObject", Term::Const(object.clone())),
+            Cause::Unfinished => return Term::constant("unfinished"),
         };
         Term::compound(name, vec![arg])
     }
@@ -137,6 +148,12 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The simulation was cut short by the deadline: the reading is infeasible, and the answer
+    /// must say a limit was hit.
+    pub fn unfinished(&self) -> bool {
+        self.reasons.iter().any(|r| r.cause == Cause::Unfinished)
+    }
+
     pub fn permissible(&self) -> bool {
         !self.reasons.iter().any(Reason::is_norm_violation)
     }
@@ -167,15 +184,25 @@ pub struct Env<'a> {
     pub library: &'a Library,
     /// The context and the speaker's roles: which norms are in force.
     pub scope: Scope<'a>,
+    /// Whether the request's deadline has passed or its client has gone: asked before every step
+    /// is expanded, so that a verb whose plan explodes cannot hold a core past the deadline.
+    pub expired: &'a (dyn Fn() -> bool + Sync),
 }
 
 struct Run<'a> {
     env: &'a Env<'a>,
     world: World,
     outcome: Outcome,
+    /// Set once `expired` said so: nothing more is expanded.
+    stopped: bool,
 }
 
 impl Run<'_> {
+    fn stop(&mut self) {
+        self.stopped = true;
+        self.push(Reason::infeasible(Cause::Unfinished));
+    }
+
     fn push(&mut self, reason: Reason) {
         if !self.outcome.reasons.contains(&reason) {
             self.outcome.reasons.push(reason);
@@ -210,6 +237,13 @@ impl Run<'_> {
     /// Runs `action`'s steps. `checked` is true when the action was already checked against the
     /// forbidden actions (the directive itself, in check (1)).
     fn run(&mut self, action: &Term, checked: bool, depth: usize) {
+        if self.stopped {
+            return;
+        }
+        if (self.env.expired)() {
+            self.stop();
+            return;
+        }
         if depth > MAX_PLAN_DEPTH {
             self.push(Reason::infeasible(Cause::PlanTooDeep { step: action.clone() }));
             return;
@@ -249,8 +283,13 @@ impl Run<'_> {
                 env,
                 world: self.world.clone(),
                 outcome: Outcome::default(),
+                stopped: false,
             };
             attempt.run_method(action, method, &bindings, depth);
+            if attempt.stopped {
+                self.stop();
+                return;
+            }
             if attempt.outcome.reasons.is_empty() {
                 self.world = attempt.world;
                 self.outcome.plan.extend(attempt.outcome.plan);
@@ -370,6 +409,7 @@ pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, Wo
         env,
         world,
         outcome: Outcome::default(),
+        stopped: false,
     };
     run.check_action(action);
     // Check (2) asks about the goal state before any step runs: a hypothetical world in which

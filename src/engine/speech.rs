@@ -128,6 +128,7 @@ pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
         Cause::UnknownObject { object } => format!("I do not see {}", describer.argument(object)),
         Cause::Precondition { fact } => not_the_case(fact, describer),
         Cause::PlanTooDeep { .. } => "its plan is too deep to simulate".to_owned(),
+        Cause::Unfinished => "I could not finish checking it in time".to_owned(),
         other => geometry_words(other, describer, false),
     }
 }
@@ -284,6 +285,7 @@ pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String 
         Cause::UnknownObject { object } => format!("I can't see {}", describer.argument(object)),
         Cause::Precondition { fact } => not_the_case(fact, describer),
         Cause::PlanTooDeep { .. } => "the plan is too complex for me to check".to_owned(),
+        Cause::Unfinished => "I ran out of time to check it".to_owned(),
         other => geometry_words(other, describer, true),
     }
 }

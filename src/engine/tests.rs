@@ -2058,6 +2058,39 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(safety_cases() / 4))]
+
+    /// The deadline may fall anywhere, even inside a reading's plan: whatever was cut short is
+    /// never offered, assumed, confirmed or obeyed, and the answer says a limit was hit.
+    #[test]
+    fn a_deadline_anywhere_never_lets_an_unchecked_reading_through(case in arb_case(), after in 0..40usize) {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let scene = case.scene();
+        let norms = norms(&case.norms);
+        let request = case.request();
+        let library = Library::default_library();
+        let calls = AtomicUsize::new(0);
+        let expired = || calls.fetch_add(1, Ordering::Relaxed) >= after;
+        let d = clarify(&request, &scene, &norms, &library, &expired).expect("clarify");
+        let unfinished = d.interpretations.iter().any(|i| i.outcome.unfinished());
+        if unfinished {
+            prop_assert!(d.limits.is_some(), "a reading was cut short and the answer does not say so");
+        }
+        if d.limits.is_some() {
+            prop_assert!(d.goal.is_none(), "{}: acted on a partial view", d.utterance);
+            prop_assert!(matches!(d.kind, Ask | Refuse), "{:?}: {}", d.kind, d.utterance);
+        }
+        let offered: Vec<_> = d.interpretations.iter().filter(|i| d.offered.contains(&i.action)).collect();
+        for i in offered {
+            prop_assert!(i.permissible() && i.feasible(), "offered {} ({})", i.action, d.utterance);
+        }
+        for words in d.interpretations.iter().flat_map(|i| &i.reason_words) {
+            prop_assert!(!words.trim().is_empty(), "a reason with no words: {}", d.utterance);
+        }
+    }
+}
+
 /// The property above is only as strong as its inputs: they must reach every decision, and every
 /// reason kind the default library can produce.
 #[test]

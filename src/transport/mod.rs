@@ -30,3 +30,17 @@ pub struct AppState {
     /// default: they are personal data).
     pub log_utterances: bool,
 }
+
+/// When a request arrived, stamped by the outermost observing layer: a decision's deadline
+/// counts from here, so time spent queued and parsing the body is inside it.
+#[derive(Clone, Copy, Debug)]
+pub struct Arrival(pub std::time::Instant);
+
+impl Arrival {
+    /// The stamp in a request's extensions, or now when a caller built the request without it.
+    pub fn of(extensions: &axum::http::Extensions) -> std::time::Instant {
+        extensions
+            .get::<Arrival>()
+            .map_or_else(std::time::Instant::now, |a| a.0)
+    }
+}

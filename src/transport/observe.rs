@@ -16,8 +16,9 @@ use crate::metrics::{Metrics, RequestLabels, RouteLabels};
 /// The header a request id travels in, both ways.
 pub const REQUEST_ID: &str = "x-request-id";
 
-pub async fn observe(State(metrics): State<Arc<Metrics>>, request: Request, next: Next) -> Response {
+pub async fn observe(State(metrics): State<Arc<Metrics>>, mut request: Request, next: Next) -> Response {
     let started = Instant::now();
+    request.extensions_mut().insert(crate::transport::Arrival(started));
     let method = request.method().as_str().to_owned();
     let grpc = request
         .headers()

@@ -109,8 +109,9 @@ async fn a_deadline_hit_is_said_and_nothing_unsimulated_is_offered() {
     let limits = &answer["limits"];
     assert_eq!(limits["reason"], "deadline", "{limits}");
     assert_eq!(limits["readings"], 10_000);
+    // The deadline counts from the request's arrival, so even the first batch may be cut.
     let simulated = limits["simulated"].as_u64().unwrap();
-    assert!((1..10_000).contains(&simulated), "{limits}");
+    assert!(simulated < 10_000, "{limits}");
     assert_eq!(answer["interpretations"].as_array().unwrap().len() as u64, simulated);
     // Every simulated reading is forbidden, so nothing is offered: the ambiguous words are named.
     assert_eq!(answer["decision"], "ask");

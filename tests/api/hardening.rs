@@ -350,3 +350,193 @@ async fn no_answer_speaks_empty_or_repeated_words() {
         "Which cup and which other cup do you mean?"
     );
 }
+
+/// A library that costs as much as the expansion bound allows per reading: `a2` tries 8 methods
+/// of 4 `a1` steps, each of 8 methods of 4 `a0` steps, and `a0` never can be done, so every
+/// method is tried. `pair(X,Y)` does `a2` on each of two objects.
+async fn store_costly_library(app: &TestApp) {
+    let a0 = json!({"parameters": ["X"], "methods": [{"preconditions": ["never(X)"]}]});
+    assert_eq!(put_json(app, "/v1/actions/a0", &a0).await.status(), StatusCode::CREATED);
+    let over = |callee: &str| {
+        let method = json!({"steps": [format!("{callee}(X)"), format!("{callee}(X)"), format!("{callee}(X)"), format!("{callee}(X)")]});
+        json!({"parameters": ["X"], "methods": vec![method; 8]})
+    };
+    assert_eq!(
+        put_json(app, "/v1/actions/a1", &over("a0")).await.status(),
+        StatusCode::CREATED
+    );
+    assert_eq!(
+        put_json(app, "/v1/actions/a2", &over("a1")).await.status(),
+        StatusCode::CREATED
+    );
+    let pair = json!({"parameters": ["X", "Y"], "methods": [{"steps": ["a2(X)", "a2(Y)"]}]});
+    assert_eq!(
+        put_json(app, "/v1/actions/pair", &pair).await.status(),
+        StatusCode::CREATED
+    );
+}
+
+fn many_cups(n: usize) -> Value {
+    let colours: Vec<String> = (0..n).map(|i| format!("c{i}")).collect();
+    let refs: Vec<&str> = colours.iter().map(String::as_str).collect();
+    cups(&refs)
+}
+
+/// Finding 3: a verb whose plan explodes ignored the deadline (26-32 s for `deadline_ms: 100`,
+/// a 192 MB body); `/v1/check` had no deadline at all. A verb may expand to at most 10,000
+/// steps (checked when it is stored), and both calls stop at their deadline with `limits`.
+#[tokio::test]
+async fn expansion_is_bounded_when_stored_and_stops_at_the_deadline() {
+    let app = spawn_app().await;
+    store_costly_library(&app).await;
+    let method = json!({"steps": ["a2(X)", "a2(X)", "a2(X)", "a2(X)"]});
+    let a3 = json!({"parameters": ["X"], "methods": vec![method; 8]});
+    let problem = assert_problem(
+        put_json(&app, "/v1/actions/a3", &a3).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/methods/0"),
+    )
+    .await;
+    assert!(
+        problem["detail"].as_str().unwrap().contains("at most 10000"),
+        "{problem}"
+    );
+    assert_eq!(
+        app.get("/v1/actions/a3").await.status(),
+        StatusCode::NOT_FOUND,
+        "nothing was stored"
+    );
+
+    // 3,600 readings of 2,577 steps each: far more than 300 ms of work.
+    let request = json!({
+        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
+        "scene": many_cups(60),
+        "options": {"deadline_ms": 300},
+    });
+    let client = reqwest::Client::builder()
+        .timeout(std::time::Duration::from_secs(20))
+        .build()
+        .unwrap();
+    let answer: Value = client
+        .post(app.url("/v1/clarify"))
+        .json(&request)
+        .send()
+        .await
+        .expect("answered well before 20 s")
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(answer["limits"]["reason"], "deadline", "{}", answer["limits"]);
+    assert_eq!(answer["goal"], Value::Null);
+    assert!(answer["limits"]["simulated"].as_u64().unwrap() < 3600);
+
+    // One reading cut short mid-plan: refused, saying why, never obeyed.
+    let one = json!({
+        "directive": {"action": "pair", "arguments": [{"id": "c1"}, {"id": "c2"}]},
+        "scene": many_cups(2),
+        "options": {"deadline_ms": 1},
+    });
+    let refused = app.clarify(&one).await;
+    if refused["limits"] != Value::Null {
+        assert_eq!(refused["decision"], "refuse");
+        assert!(
+            refused["utterance"]
+                .as_str()
+                .unwrap()
+                .ends_with("because I could not finish checking it in time."),
+            "{refused}"
+        );
+        assert_eq!(
+            refused["interpretations"][0]["reasons"]
+                .as_array()
+                .unwrap()
+                .last()
+                .unwrap()["kind"],
+            "unfinished"
+        );
+    }
+
+    let steps: Vec<String> = (0..1000)
+        .map(|i| format!("pair(c{},c{})", i % 60 + 1, (i + 1) % 60 + 1))
+        .collect();
+    let check = json!({"scene": many_cups(60), "steps": steps, "options": {"deadline_ms": 300}});
+    let checked: Value = client
+        .post(app.url("/v1/check"))
+        .json(&check)
+        .send()
+        .await
+        .expect("answered")
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(checked["permitted"], false);
+    assert_eq!(checked["limits"]["reason"], "deadline", "{}", checked["limits"]);
+    assert_eq!(checked["limits"]["readings"], 1000);
+    assert!(checked["limits"]["simulated"].as_u64().unwrap() < 1000);
+}
+
+/// Finding 4: two costly requests whose clients left after a second kept both cores busy for a
+/// minute, and `/healthz` took 31.8 s meanwhile. A client that goes away cancels its decision.
+#[tokio::test]
+async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile() {
+    let app = spawn_app().await;
+    store_costly_library(&app).await;
+    let request = json!({
+        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
+        "scene": many_cups(60),
+        "options": {"deadline_ms": 60000},
+    });
+    let impatient = reqwest::Client::builder()
+        .timeout(std::time::Duration::from_millis(500))
+        .build()
+        .unwrap();
+    let left: Vec<_> = (0..4)
+        .map(|_| {
+            let (client, url, body) = (impatient.clone(), app.url("/v1/clarify"), request.clone());
+            tokio::spawn(async move { client.post(url).json(&body).send().await })
+        })
+        .collect();
+    let started = std::time::Instant::now();
+    for handle in left {
+        assert!(handle.await.unwrap().is_err(), "the client gave up before an answer");
+    }
+    // The abandoned simulations stop (they would have run to their 60 s deadline).
+    let mut in_flight = String::new();
+    for _ in 0..100 {
+        let metrics = app.get("/metrics").await.text().await.unwrap();
+        in_flight = metrics
+            .lines()
+            .find(|l| l.starts_with("scruple_simulations_in_flight "))
+            .unwrap_or_default()
+            .to_owned();
+        if in_flight == "scruple_simulations_in_flight 0" {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    }
+    assert_eq!(
+        in_flight, "scruple_simulations_in_flight 0",
+        "abandoned work still runs"
+    );
+    // Health answers, and a decision gets a turn again.
+    let health = app
+        .client
+        .get(app.url("/healthz"))
+        .timeout(std::time::Duration::from_secs(5))
+        .send()
+        .await;
+    assert_eq!(health.expect("health answers under load").status(), StatusCode::OK);
+    let small = json!({"directive": {"action": "get", "arguments": [{"id": "c1"}]}, "scene": many_cups(2)});
+    let answer = app
+        .client
+        .post(app.url("/v1/clarify"))
+        .json(&small)
+        .timeout(std::time::Duration::from_secs(10))
+        .send()
+        .await;
+    assert_eq!(answer.expect("a small decision is made").status(), StatusCode::OK);
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(30),
+        "the abandoned work did not run to its 60 s deadline"
+    );
+}

@@ -221,11 +221,7 @@ impl From<DecisionDto> for pb::ClarifyResponse {
             library_version: d.library_version,
             text: d.text,
             offered: d.offered,
-            limits: d.limits.map(|l| pb::Limits {
-                reason: l.reason,
-                readings: l.readings,
-                simulated: l.simulated,
-            }),
+            limits: d.limits.map(limits),
         }
     }
 }
@@ -297,6 +293,7 @@ impl TryFrom<pb::CheckRequest> for CheckBody {
 
     fn try_from(request: pb::CheckRequest) -> Result<Self, Error> {
         let scene = request.scene.ok_or_else(|| missing("/scene"))?;
+        let deadline_ms = request.options.as_ref().and_then(|o| o.deadline_ms);
         let style = word(
             "/options/style",
             request.options.and_then(|o| o.style),
@@ -312,8 +309,16 @@ impl TryFrom<pb::CheckRequest> for CheckBody {
             steps: request.steps,
             context: request.context,
             speaker_roles: (!request.speaker_roles.is_empty()).then_some(request.speaker_roles),
-            options: style.map(|style| CheckOptionsBody { style: Some(style) }),
+            options: (style.is_some() || deadline_ms.is_some()).then_some(CheckOptionsBody { style, deadline_ms }),
         })
+    }
+}
+
+fn limits(l: crate::api::LimitsDto) -> pb::Limits {
+    pb::Limits {
+        reason: l.reason,
+        readings: l.readings,
+        simulated: l.simulated,
     }
 }
 
@@ -334,6 +339,7 @@ impl From<CheckDto> for pb::CheckResponse {
                 .collect(),
             utterance: c.utterance,
             norm_version: c.norm_version,
+            limits: c.limits.map(limits),
         }
     }
 }

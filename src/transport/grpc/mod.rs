@@ -15,8 +15,8 @@ use crate::api::{
 };
 use crate::engine::action::ActionInput;
 use crate::error::Error;
-use crate::transport::AppState;
 use crate::transport::auth::Access;
+use crate::transport::{AppState, Arrival};
 
 /// Generated from `proto/scruple/v1/scruple.proto`.
 pub mod pb {
@@ -59,18 +59,20 @@ fn norm_set(version: i64, norms: &[crate::engine::norms::Norm]) -> pb::NormSet {
 #[tonic::async_trait]
 impl Clarifier for ClarifierService {
     async fn clarify(&self, request: Request<pb::ClarifyRequest>) -> Result<Response<pb::ClarifyResponse>, Status> {
+        let arrived = Arrival::of(request.extensions());
         let body = ClarifyBody::try_from(request.into_inner())?;
         let mut input = ClarifyInput::from_body(body, &self.state.limits)?;
         let text = input.text.take();
         let speaker = self.state.log_utterances.then(|| input.request.speaker.clone());
-        let decision = self.state.core.clarify(input).await?;
+        let decision = self.state.core.clarify(input, arrived).await?;
         crate::transport::observe::log_decision(&self.state, &decision, text.as_deref(), speaker.as_deref());
         Ok(Response::new(DecisionDto::new(&decision, text).into()))
     }
 
     async fn check(&self, request: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {
+        let arrived = Arrival::of(request.extensions());
         let input = CheckInput::from_body(CheckBody::try_from(request.into_inner())?, &self.state.limits)?;
-        let check = self.state.core.check(input).await?;
+        let check = self.state.core.check(input, arrived).await?;
         Ok(Response::new(CheckDto::from(&check).into()))
     }
 }

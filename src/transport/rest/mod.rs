@@ -7,7 +7,7 @@ use axum::extract::{DefaultBodyLimit, FromRequest, FromRequestParts, Path, Reque
 use axum::http::request::Parts;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use axum::{Json, Router};
+use axum::{Extension, Json, Router};
 use bytes::Bytes;
 use serde::de::DeserializeOwned;
 use tower_http::catch_panic::CatchPanicLayer;
@@ -21,8 +21,8 @@ use crate::api::{
 };
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
-use crate::transport::AppState;
 use crate::transport::auth::Access;
+use crate::transport::{AppState, Arrival};
 
 mod doc;
 mod playground;
@@ -418,12 +418,14 @@ async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Resu
     ))]
 async fn clarify(
     State(app): State<AppState>,
+    arrival: Option<Extension<Arrival>>,
     JsonBody(body): JsonBody<ClarifyBody>,
 ) -> Result<Json<DecisionDto>, Error> {
+    let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
     let mut input = ClarifyInput::from_body(body, &app.limits)?;
     let text = input.text.take();
     let speaker = app.log_utterances.then(|| input.request.speaker.clone());
-    let decision = app.core.clarify(input).await?;
+    let decision = app.core.clarify(input, arrived).await?;
     crate::transport::observe::log_decision(&app, &decision, text.as_deref(), speaker.as_deref());
     Ok(Json(DecisionDto::new(&decision, text)))
 }
@@ -441,9 +443,14 @@ async fn clarify(
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
     ))]
-async fn check(State(app): State<AppState>, JsonBody(body): JsonBody<CheckBody>) -> Result<Json<CheckDto>, Error> {
+async fn check(
+    State(app): State<AppState>,
+    arrival: Option<Extension<Arrival>>,
+    JsonBody(body): JsonBody<CheckBody>,
+) -> Result<Json<CheckDto>, Error> {
+    let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
     let input = CheckInput::from_body(body, &app.limits)?;
-    let check = app.core.check(input).await?;
+    let check = app.core.check(input, arrived).await?;
     Ok(Json(CheckDto::from(&check)))
 }
 
