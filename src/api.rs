@@ -48,11 +48,9 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
                 detail: syntax.to_string(),
             };
         }
-        if !inner.is_data() {
-            return Error::MalformedBody {
-                detail: inner.to_string(),
-            };
-        }
+        // The text is JSON, so whatever the deserializer tripped on is the shape of a member:
+        // a fixed-length array with more elements ("trailing characters" to serde), a shape with
+        // no kind or two, a key given twice. Each is a 422 naming the member.
         let mut field = String::new();
         for segment in err.path().iter() {
             match segment {
@@ -69,20 +67,43 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, Error> {
             }
         }
         let message = inner.to_string();
-        // serde reports a missing member at its parent; point at the member itself.
-        if let Some(rest) = message.strip_prefix("missing field `")
-            && let Some(name) = rest.split('`').next()
-        {
-            field.push('/');
-            field.push_str(&pointer_segment(name));
+        // serde reports a missing or repeated member at its parent; point at the member itself.
+        for prefix in ["missing field `", "duplicate field `"] {
+            if let Some(rest) = message.strip_prefix(prefix)
+                && let Some(name) = rest.split('`').next()
+            {
+                field.push('/');
+                field.push_str(&pointer_segment(name));
+            }
         }
         let detail = match message.rfind(" at line ") {
             Some(cut) => message[..cut].to_owned(),
             None => message,
         };
+        let detail = shape_detail(&detail, &field);
         // An empty pointer is the whole document (RFC 6901).
         Error::invalid(field, detail)
     })
+}
+
+/// serde's words for a member of the wrong shape, made plain where they would mislead.
+fn shape_detail(detail: &str, field: &str) -> String {
+    let last = field.rsplit('/').next().unwrap_or_default();
+    let what = match last {
+        "position" => Some("exactly 3 numbers [x, y, z]"),
+        "half_extents" => Some("exactly 3 numbers"),
+        "rotation" => Some("exactly 4 numbers [x, y, z, w]"),
+        "shape" => Some("one of {\"ball\": ...}, {\"cuboid\": ...}, {\"cylinder\": ...}: exactly one kind"),
+        _ => None,
+    };
+    match what {
+        Some(what) if detail.starts_with("trailing characters") || detail.starts_with("invalid length") => {
+            format!("must be {what}")
+        }
+        Some(what) if last == "shape" && !detail.starts_with("unknown variant") => format!("must be {what}"),
+        _ if detail.starts_with("trailing characters") => "has more elements or members than it takes".to_owned(),
+        _ => detail.to_owned(),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -540,3 +540,88 @@ async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile(
         "the abandoned work did not run to its 60 s deadline"
     );
 }
+
+/// Finding 10: well-formed JSON of the wrong shape was called malformed (400, no field), a
+/// repeated key pointed at the whole document, a bad audit query was "malformed JSON".
+#[tokio::test]
+async fn well_formed_json_of_the_wrong_shape_is_a_422_naming_the_member() {
+    let app = spawn_app().await;
+    let with = |edit: &dyn Fn(&mut Value)| {
+        let mut body = json!({"directive": {"action": "get", "arguments": [{"type": "cup"}]}, "scene": cups(&["red"])});
+        edit(&mut body);
+        body
+    };
+    let cases: Vec<(Value, &str)> = vec![
+        (
+            with(&|b| b["scene"]["objects"][0]["position"] = json!([0.4, 0.1, 0.8, 1.0])),
+            "/scene/objects/0/position",
+        ),
+        (
+            with(&|b| b["scene"]["agent"]["position"] = json!([0, 0])),
+            "/scene/agent/position",
+        ),
+        (
+            with(&|b| b["scene"]["objects"][0]["shape"] = json!({})),
+            "/scene/objects/0/shape",
+        ),
+        (
+            with(&|b| {
+                b["scene"]["objects"][0]["shape"] =
+                    json!({"ball": {"radius": 0.1}, "cylinder": {"radius": 0.1, "half_height": 0.1}})
+            }),
+            "/scene/objects/0/shape",
+        ),
+        (
+            with(&|b| b["scene"]["objects"][0]["rotation"] = json!([0, 0, 0, 1, 0])),
+            "/scene/objects/0/rotation",
+        ),
+        (
+            with(&|b| b["scene"]["objects"][0]["shape"] = json!({"cuboid": {"half_extents": [0.1, 0.1, 0.1, 0.1]}})),
+            "/scene/objects/0/shape/cuboid/half_extents",
+        ),
+    ];
+    for (body, field) in cases {
+        let problem = assert_problem(
+            app.post("/v1/clarify", &body).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+        assert!(
+            !problem["detail"].as_str().unwrap().contains("trailing characters"),
+            "{problem}"
+        );
+    }
+    let twice = r#"{"directive": {"action": "get", "arguments": [{"type": "cup"}]}, "directive": {"action": "get", "arguments": []}, "scene": {"agent": {"position": [0,0,0], "reach": 1}}}"#;
+    let response = app
+        .client
+        .post(app.url("/v1/clarify"))
+        .header("content-type", "application/json")
+        .body(twice)
+        .send()
+        .await
+        .unwrap();
+    assert_problem(response, StatusCode::UNPROCESSABLE_ENTITY, Some("/directive")).await;
+    for (query, field) in [
+        ("after=abc", "/after"),
+        ("limit=ten", "/limit"),
+        ("after=1&limit=0", "/limit"),
+    ] {
+        assert_problem(
+            app.get(&format!("/v1/audit?{query}")).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+    }
+    // Text that is not JSON stays a 400.
+    let response = app
+        .client
+        .post(app.url("/v1/clarify"))
+        .header("content-type", "application/json")
+        .body("{} trailing")
+        .send()
+        .await
+        .unwrap();
+    assert_problem(response, StatusCode::BAD_REQUEST, None).await;
+}

@@ -372,5 +372,10 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
         Some("/limit"),
     )
     .await;
-    assert_problem(app.get("/v1/audit?after=x").await, StatusCode::BAD_REQUEST, None).await;
+    assert_problem(
+        app.get("/v1/audit?after=x").await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/after"),
+    )
+    .await;
 }
