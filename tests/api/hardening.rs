@@ -625,3 +625,42 @@ async fn well_formed_json_of_the_wrong_shape_is_a_422_naming_the_member() {
         .unwrap();
     assert_problem(response, StatusCode::BAD_REQUEST, None).await;
 }
+
+/// Finding 8: a malformed protobuf, a missing message or a bad compression flag answered
+/// INTERNAL, an oversized message OUT_OF_RANGE.
+#[tokio::test]
+async fn grpc_requests_that_cannot_be_decoded_are_the_callers_fault() {
+    let app = crate::helpers::spawn_with(Options {
+        max_body_bytes: 1024,
+        ..Options::default()
+    })
+    .await;
+    let h2 = reqwest::Client::builder().http2_prior_knowledge().build().unwrap();
+    let frame = |flag: u8, len: u32, body: &[u8]| {
+        let mut bytes = vec![flag];
+        bytes.extend_from_slice(&len.to_be_bytes());
+        bytes.extend_from_slice(body);
+        bytes
+    };
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (frame(0, 3, &[0xff, 0xff, 0xff]), "3"),
+        (Vec::new(), "3"),
+        (frame(2, 0, &[]), "3"),
+        (frame(0, 4096, &[0; 16]), "8"),
+    ];
+    for (body, code) in cases {
+        let response = h2
+            .post(app.url("/scruple.v1.Clarifier/Clarify"))
+            .header("content-type", "application/grpc")
+            .header("te", "trailers")
+            .body(body.clone())
+            .send()
+            .await
+            .unwrap();
+        let status = response
+            .headers()
+            .get("grpc-status")
+            .map(|v| v.to_str().unwrap().to_owned());
+        assert_eq!(status.as_deref(), Some(code), "{body:?}: {:?}", response.headers());
+    }
+}

@@ -262,5 +262,38 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
         .add_service(ClarifierServer::new(ClarifierService { state: state.clone() }).max_decoding_message_size(limit))
         .add_service(NormsServer::new(NormsService { state: state.clone() }).max_decoding_message_size(limit))
         .add_service(ActionsServer::new(ActionsService { state }).max_decoding_message_size(limit))
-        .into_axum_router())
+        .into_axum_router()
+        .layer(axum::middleware::from_fn(request_faults)))
+}
+
+/// tonic answers a request it cannot decode with INTERNAL (a malformed message, no message, a
+/// bad compression flag) and one over the size limit with OUT_OF_RANGE. Those are the caller's
+/// faults: they become INVALID_ARGUMENT and RESOURCE_EXHAUSTED, as REST's 400 and 413 are. Only
+/// tonic's own decoding messages are matched, so the service's INTERNAL stays INTERNAL.
+async fn request_faults(request: axum::extract::Request, next: axum::middleware::Next) -> axum::response::Response {
+    let response = next.run(request).await;
+    let Some(status) = Status::from_header_map(response.headers()) else {
+        return response;
+    };
+    let message = status.message();
+    let code = match status.code() {
+        tonic::Code::Internal
+            if [
+                "failed to decode Protobuf message",
+                "Missing request message",
+                "protocol error: received message with",
+                "Unexpected EOF decoding stream",
+                "Error decompressing",
+            ]
+            .iter()
+            .any(|p| message.starts_with(p)) =>
+        {
+            tonic::Code::InvalidArgument
+        }
+        tonic::Code::OutOfRange if message.starts_with("Error, decoded message length too large") => {
+            tonic::Code::ResourceExhausted
+        }
+        _ => return response,
+    };
+    Status::new(code, message.to_owned()).into_http()
 }
