@@ -6,7 +6,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::api::{CheckInput, ClarifyInput};
 use crate::engine::Library;
@@ -58,9 +58,21 @@ fn stop_signal(deadline: Instant) -> (CancelOnDrop, impl Fn() -> bool + Send + S
     (CancelOnDrop(cancelled), expired)
 }
 
+/// How long the last read of the knowledge may stand for readiness; past it, readiness says the
+/// store has stopped answering (a probe refreshes it every second when no request does).
+const READINESS_STALE: Duration = Duration::from_secs(10);
+
+/// The outcome of the last read of what a decision needs, and when it ended.
+struct Readiness {
+    at: Instant,
+    outcome: Result<(), String>,
+}
+
 pub struct Core {
     store: Arc<dyn NormStore>,
     metrics: Arc<Metrics>,
+    /// What readiness reports: never a read of its own, so a probe answers at once under load.
+    readiness: std::sync::Mutex<Option<Readiness>>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
     /// The last action library loaded, likewise tagged.
@@ -92,21 +104,77 @@ impl Core {
             metrics,
             compiled: RwLock::new(None),
             library: RwLock::new(None),
+            readiness: std::sync::Mutex::new(None),
+        }
+    }
+
+    /// Whether a decision can be made now: the outcome of the last read of the norms and verbs
+    /// (by a request, or by [`Core::probe`]), without reading anything itself.
+    pub fn readiness(&self) -> Result<(), Error> {
+        let last = self.readiness.lock().map_err(|_| poisoned())?;
+        match &*last {
+            None => Err(Error::NormsUnavailable("the norms have not been read yet".to_owned())),
+            Some(r) if r.at.elapsed() > READINESS_STALE => Err(Error::NormsUnavailable(format!(
+                "the norm store has not answered for {} s",
+                r.at.elapsed().as_secs()
+            ))),
+            Some(r) => r.outcome.clone().map_err(Error::NormsUnavailable),
+        }
+    }
+
+    /// Reads the knowledge as a decision would, unless a request did within `max_age`: keeps
+    /// readiness current when no request comes.
+    pub async fn probe(&self, max_age: Duration) {
+        let fresh = self
+            .readiness
+            .lock()
+            .map(|last| last.as_ref().is_some_and(|r| r.at.elapsed() < max_age))
+            .unwrap_or(false);
+        if !fresh {
+            let _ = self.knowledge_for(None).await;
+        }
+    }
+
+    fn note_readiness(&self, outcome: &Result<(Arc<CompiledNorms>, Arc<Library>), Error>) {
+        if let Ok(mut last) = self.readiness.lock() {
+            *last = Some(Readiness {
+                at: Instant::now(),
+                outcome: outcome.as_ref().map(|_| ()).map_err(|e| match e {
+                    Error::NormsUnavailable(detail) => detail.clone(),
+                    other => other.to_string(),
+                }),
+            });
         }
     }
 
     /// The norms and the verbs in force now: one versions read per call; a reload only of what
     /// another write (from this process or any other sharing the store) has changed.
     async fn knowledge(&self) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+        self.knowledge_for(Some(&self.metrics)).await
+    }
+
+    /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
+    async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+        let outcome = self.read_knowledge(metrics).await;
+        self.note_readiness(&outcome);
+        outcome
+    }
+
+    async fn read_knowledge(&self, metrics: Option<&Metrics>) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+        let count = |cache, outcome| {
+            if let Some(m) = metrics {
+                m.cache(cache, outcome);
+            }
+        };
         let unavailable = |e: crate::storage::StoreError| Error::NormsUnavailable(e.0);
         let versions = self.store.versions().await.map_err(unavailable)?;
         let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
             Some(norms) => {
-                self.metrics.cache(Cache::Norms, Outcome::Hit);
+                count(Cache::Norms, Outcome::Hit);
                 norms
             }
             None => {
-                self.metrics.cache(Cache::Norms, Outcome::Refresh);
+                count(Cache::Norms, Outcome::Refresh);
                 let (version, norms) = self.store.load().await.map_err(unavailable)?;
                 let fresh = Arc::new(CompiledNorms::compile(version, norms));
                 keep_newer(&self.compiled, &fresh, |c| c.version)?;
@@ -115,11 +183,11 @@ impl Core {
         };
         let library = match cached(&self.library, versions.actions, |l| l.version)? {
             Some(library) => {
-                self.metrics.cache(Cache::Library, Outcome::Hit);
+                count(Cache::Library, Outcome::Hit);
                 library
             }
             None => {
-                self.metrics.cache(Cache::Library, Outcome::Refresh);
+                count(Cache::Library, Outcome::Refresh);
                 let (version, verbs) = self.store.load_actions().await.map_err(unavailable)?;
                 let fresh = Library::from_written(version, &verbs).map_err(|(name, e)| {
                     Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
@@ -299,11 +367,6 @@ impl Core {
                 what: format!("verb `{name}`"),
             })
         }
-    }
-
-    /// Ready when the store answers.
-    pub async fn ready(&self) -> Result<(), Error> {
-        Ok(self.store.ping().await?)
     }
 }
 

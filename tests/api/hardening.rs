@@ -664,3 +664,46 @@ async fn grpc_requests_that_cannot_be_decoded_are_the_callers_fault() {
         assert_eq!(status.as_deref(), Some(code), "{body:?}: {:?}", response.headers());
     }
 }
+
+/// Finding 14: with the norms table dropped, `/healthz` said 200 while clarify and writes said
+/// 503. Readiness is the outcome of the last read of what a decision needs, on both transports.
+#[tokio::test]
+async fn health_says_what_a_decision_would_find() {
+    use tonic_health::pb::health_check_response::ServingStatus;
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    assert_eq!(app.get("/healthz").await.status(), StatusCode::OK);
+    let channel = tonic::transport::Channel::from_shared(app.base.clone())
+        .unwrap()
+        .connect()
+        .await
+        .unwrap();
+    let mut grpc = tonic_health::pb::health_client::HealthClient::new(channel);
+    let grpc_status = |service: &str| tonic_health::pb::HealthCheckRequest {
+        service: service.to_owned(),
+    };
+    sql(&app, "DROP TABLE norms; UPDATE norm_set SET version = version + 1;").await;
+    // No request comes: the probe finds it within a second or so.
+    let mut health = StatusCode::OK;
+    for _ in 0..60 {
+        health = app.get("/healthz").await.status();
+        if health != StatusCode::OK {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    }
+    let problem = assert_problem(app.get("/healthz").await, StatusCode::SERVICE_UNAVAILABLE, None).await;
+    assert_eq!(problem["type"], "/problems/norms-unavailable");
+    for service in ["", "scruple.v1.Clarifier"] {
+        let answer = grpc.check(grpc_status(service)).await.unwrap().into_inner();
+        assert_eq!(answer.status(), ServingStatus::NotServing, "{service:?}");
+    }
+    let destroy = json!({"directive": {"action": "destroy", "arguments": [{"id": "object3"}]}, "scene": lab_scene()});
+    assert_problem(
+        app.post("/v1/clarify", &destroy).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+}

@@ -242,9 +242,12 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
     // The REST body limit holds for gRPC messages too (RESOURCE_EXHAUSTED above it).
     let limit = state.max_body_bytes;
     let (health_reporter, health) = tonic_health::server::health_reporter();
-    health_reporter.set_serving::<ClarifierServer<ClarifierService>>().await;
-    health_reporter.set_serving::<NormsServer<NormsService>>().await;
-    health_reporter.set_serving::<ActionsServer<ActionsService>>().await;
+    state.core.probe(std::time::Duration::ZERO).await;
+    report_health(&health_reporter, state.core.readiness().is_ok()).await;
+    tokio::spawn(follow_readiness(
+        std::sync::Arc::downgrade(&state.core),
+        health_reporter,
+    ));
     let reflection = || {
         tonic_reflection::server::Builder::configure()
             .register_encoded_file_descriptor_set(pb::FILE_DESCRIPTOR_SET)
@@ -264,6 +267,47 @@ pub async fn router(state: AppState) -> Result<axum::Router, Error> {
         .add_service(ActionsServer::new(ActionsService { state }).max_decoding_message_size(limit))
         .into_axum_router()
         .layer(axum::middleware::from_fn(request_faults)))
+}
+
+async fn report_health(reporter: &tonic_health::server::HealthReporter, ready: bool) {
+    let status = if ready {
+        tonic_health::ServingStatus::Serving
+    } else {
+        tonic_health::ServingStatus::NotServing
+    };
+    reporter.set_service_status("", status).await;
+    reporter
+        .set_service_status(
+            <ClarifierServer<ClarifierService> as tonic::server::NamedService>::NAME,
+            status,
+        )
+        .await;
+    reporter
+        .set_service_status(<NormsServer<NormsService> as tonic::server::NamedService>::NAME, status)
+        .await;
+    reporter
+        .set_service_status(
+            <ActionsServer<ActionsService> as tonic::server::NamedService>::NAME,
+            status,
+        )
+        .await;
+}
+
+/// Keeps readiness at most a second old when no request reads the knowledge, and gRPC health
+/// saying what `/healthz` says. Ends when the service (its core) is gone.
+async fn follow_readiness(core: std::sync::Weak<crate::core::Core>, reporter: tonic_health::server::HealthReporter) {
+    let mut reported = None;
+    loop {
+        tokio::time::sleep(std::time::Duration::from_millis(250)).await;
+        let Some(core) = core.upgrade() else { return };
+        core.probe(std::time::Duration::from_secs(1)).await;
+        let ready = core.readiness().is_ok();
+        drop(core);
+        if reported != Some(ready) {
+            report_health(&reporter, ready).await;
+            reported = Some(ready);
+        }
+    }
 }
 
 /// tonic answers a request it cannot decode with INTERNAL (a malformed message, no message, a

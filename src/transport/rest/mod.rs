@@ -163,13 +163,14 @@ fn norm_id(text: &str) -> Result<i64, Error> {
 }
 
 #[utoipa::path(get, path = "/healthz", tag = "service",
-    summary = "Readiness: the norm store is open and migrated",
+    summary = "Readiness: a decision can be made (the last read of the norms and verbs succeeded)",
+    description = "Reports the outcome of the last read of what a decision needs, by a request or by a probe at most a second old; it never reads the store itself, so it answers at once under any load.",
     responses(
         (status = 200, description = "Ready", body = doc::Health, example = json!({"status": "ok"})),
         (status = 503, description = "The norm store cannot be read", body = Problem, content_type = PROBLEM_JSON),
     ))]
 async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>, Error> {
-    app.core.ready().await?;
+    app.core.readiness()?;
     Ok(Json(serde_json::json!({"status": "ok"})))
 }
 
