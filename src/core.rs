@@ -58,6 +58,12 @@ fn stop_signal(deadline: Instant) -> (CancelOnDrop, impl Fn() -> bool + Send + S
     (CancelOnDrop(cancelled), expired)
 }
 
+/// Longest wait for a turn at a costly simulation before the request is refused as overload.
+const COSTLY_WAIT: Duration = Duration::from_millis(100);
+
+/// How far past a request's deadline it may wait for the norms and verbs before it is overload.
+const KNOWLEDGE_GRACE: Duration = Duration::from_millis(100);
+
 /// How long the last read of the knowledge may stand for readiness; past it, readiness says the
 /// store has stopped answering (a probe refreshes it every second when no request does).
 const READINESS_STALE: Duration = Duration::from_secs(10);
@@ -73,6 +79,8 @@ pub struct Core {
     metrics: Arc<Metrics>,
     /// What readiness reports: never a read of its own, so a probe answers at once under load.
     readiness: std::sync::Mutex<Option<Readiness>>,
+    /// Turns for costly simulations (see `costly_turn`): one per core.
+    costly: Arc<tokio::sync::Semaphore>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
     /// The last action library loaded, likewise tagged.
@@ -105,6 +113,9 @@ impl Core {
             compiled: RwLock::new(None),
             library: RwLock::new(None),
             readiness: std::sync::Mutex::new(None),
+            costly: Arc::new(tokio::sync::Semaphore::new(
+                std::thread::available_parallelism().map_or(2, usize::from),
+            )),
         }
     }
 
@@ -136,6 +147,10 @@ impl Core {
     }
 
     fn note_readiness(&self, outcome: &Result<(Arc<CompiledNorms>, Arc<Library>), Error>) {
+        // A read that could not get a connection in time says nothing about the store.
+        if matches!(outcome, Err(Error::Overloaded { .. })) {
+            return;
+        }
         if let Ok(mut last) = self.readiness.lock() {
             *last = Some(Readiness {
                 at: Instant::now(),
@@ -153,6 +168,16 @@ impl Core {
         self.knowledge_for(Some(&self.metrics)).await
     }
 
+    /// The knowledge, if it can be had before `deadline`; a store too busy to answer by then is
+    /// overload (503 with Retry-After), so a decision is never answered late for want of it.
+    async fn knowledge_by(&self, deadline: Instant) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+        // A little past the deadline, so that a request whose deadline is (nearly) spent still
+        // gets its answer with `limits` when the store is quick, as it is unless overloaded.
+        tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), self.knowledge())
+            .await
+            .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }))
+    }
+
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
     async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
         let outcome = self.read_knowledge(metrics).await;
@@ -166,7 +191,14 @@ impl Core {
                 m.cache(cache, outcome);
             }
         };
-        let unavailable = |e: crate::storage::StoreError| Error::NormsUnavailable(e.0);
+        // Waiting for a connection is overload, never "norms unavailable".
+        let unavailable = |e: crate::storage::StoreError| {
+            if e.busy {
+                Error::Overloaded { retry_after_s: 1 }
+            } else {
+                Error::NormsUnavailable(e.detail)
+            }
+        };
         let versions = self.store.versions().await.map_err(unavailable)?;
         let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
             Some(norms) => {
@@ -204,15 +236,22 @@ impl Core {
     /// The engine runs on the blocking pool, so a large request does not stall other requests;
     /// its deadline counts from here.
     pub async fn clarify(&self, input: ClarifyInput, arrived: Instant) -> Result<Decision, Error> {
-        let (_guard, expired) = stop_signal(arrived + input.deadline);
-        let (norms, library) = self.knowledge().await?;
+        let deadline = arrived + input.deadline;
+        let (_guard, expired) = stop_signal(deadline);
+        let (norms, library) = self.knowledge_by(deadline).await?;
         let (verb, arity) = input.verb();
         let steps = input
             .at_most_readings()
             .saturating_mul(u128::from(library.expansion(&verb, arity)));
         let small = steps <= INLINE_STEPS;
+        let turn = if small {
+            None
+        } else {
+            Some(self.costly_turn(deadline).await?)
+        };
         let metrics = self.metrics.clone();
         let decide = move || {
+            let _turn = turn;
             let _running = InFlight::new(&metrics);
             clarify(&input.request, &input.scene, &norms, &library, &expired)
         };
@@ -233,12 +272,37 @@ impl Core {
         Ok(decision)
     }
 
+    /// A turn to run a costly simulation: at most one per core at once, so that each finishes
+    /// within its deadline rather than all of them late. A request that gets no turn within
+    /// [`COSTLY_WAIT`] (nor before its deadline) is overload: 503 with Retry-After at once,
+    /// never an answer long after the robot stopped waiting.
+    async fn costly_turn(&self, deadline: Instant) -> Result<tokio::sync::OwnedSemaphorePermit, Error> {
+        let until = (Instant::now() + COSTLY_WAIT).min(deadline);
+        match tokio::time::timeout_at(until.into(), self.costly.clone().acquire_owned()).await {
+            Ok(Ok(permit)) => Ok(permit),
+            Ok(Err(_)) | Err(_) => {
+                self.metrics.overloaded.inc();
+                Err(Error::Overloaded { retry_after_s: 1 })
+            }
+        }
+    }
+
     /// Checks steps while acting, under the norms in force now. Fails closed like `clarify`.
     pub async fn check(&self, input: CheckInput, arrived: Instant) -> Result<Check, Error> {
-        let (_guard, expired) = stop_signal(arrived + input.deadline);
-        let (norms, library) = self.knowledge().await?;
+        let deadline = arrived + input.deadline;
+        let (_guard, expired) = stop_signal(deadline);
+        let (norms, library) = self.knowledge_by(deadline).await?;
+        let steps: u128 = (input.steps.iter())
+            .map(|s| u128::from(library.expansion(s.name().map_or("", |n| &**n), s.arity())))
+            .sum();
+        let turn = if steps <= INLINE_STEPS {
+            None
+        } else {
+            Some(self.costly_turn(deadline).await?)
+        };
         let metrics = self.metrics.clone();
         tokio::task::spawn_blocking(move || {
+            let _turn = turn;
             let _running = InFlight::new(&metrics);
             let scope = Scope {
                 context: &input.context,

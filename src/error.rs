@@ -197,7 +197,11 @@ impl From<EngineError> for Error {
 
 impl From<StoreError> for Error {
     fn from(e: StoreError) -> Self {
-        Error::StoreUnavailable(e.0)
+        if e.busy {
+            Error::Overloaded { retry_after_s: 1 }
+        } else {
+            Error::StoreUnavailable(e.detail)
+        }
     }
 }
 

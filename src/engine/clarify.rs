@@ -31,6 +31,8 @@ pub const FEW: usize = 3;
 pub const PARALLEL_FROM: usize = 64;
 /// Readings simulated between two looks at the deadline when running in parallel.
 const PARALLEL_BATCH: usize = 512;
+/// Readings described between two looks at the deadline.
+const PREPARE_BATCH: usize = 1024;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Strategy {
@@ -571,21 +573,31 @@ pub fn clarify(
         Some(narrowed) => narrowed.combinations(),
         None => combinations(&slots.iter().map(|s| s.candidates.as_slice()).collect::<Vec<_>>()),
     };
-    let mut readings: Vec<Interpretation> = chosen
-        .into_iter()
-        .map(|(values, score)| {
-            let action = template.action(&values);
-            Interpretation {
-                description: describer.arguments(&action),
-                reading: describer.reading(&action),
-                action,
-                score,
-                outcome: Outcome::default(),
-                reason_words: Vec::new(),
-                values,
-            }
-        })
-        .collect();
+    // Describing every reading is work too (a tenth of a second for 100,000): the deadline is
+    // asked here as well, and past it nothing is simulated and the ambiguous words are named.
+    let mut readings: Vec<Interpretation> = Vec::with_capacity(chosen.len());
+    let prepared = chosen.len() as u128;
+    for (n, (values, score)) in chosen.into_iter().enumerate() {
+        if n % PREPARE_BATCH == PREPARE_BATCH - 1 && expired() {
+            let limits = Limits {
+                kind: LimitKind::Deadline,
+                readings: prepared,
+                simulated: 0,
+            };
+            let plan = decide(options, &[], &slots, true);
+            return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
+        }
+        let action = template.action(&values);
+        readings.push(Interpretation {
+            description: describer.arguments(&action),
+            reading: describer.reading(&action),
+            action,
+            score,
+            outcome: Outcome::default(),
+            reason_words: Vec::new(),
+            values,
+        });
+    }
     if readings.is_empty() {
         // The answer matches none of the readings.
         let words = match &request.answer {

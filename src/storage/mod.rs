@@ -37,12 +37,29 @@ pub async fn open(url: &str) -> Result<std::sync::Arc<dyn NormStore>, StoreError
 
 /// A failure of the store itself (I/O, lock, corruption), never of the caller's input.
 #[derive(Debug, thiserror::Error)]
-#[error("norm store: {0}")]
-pub struct StoreError(pub String);
+#[error("norm store: {detail}")]
+pub struct StoreError {
+    pub detail: String,
+    /// No connection could be had in time: the store is healthy but this process is at its
+    /// limit, which is overload (retry shortly), not unreadable norms.
+    pub busy: bool,
+}
+
+impl StoreError {
+    pub fn new(detail: impl Into<String>) -> StoreError {
+        StoreError {
+            detail: detail.into(),
+            busy: false,
+        }
+    }
+}
 
 impl From<sqlx::Error> for StoreError {
     fn from(e: sqlx::Error) -> Self {
-        StoreError(e.to_string())
+        StoreError {
+            busy: matches!(e, sqlx::Error::PoolTimedOut),
+            detail: e.to_string(),
+        }
     }
 }
 

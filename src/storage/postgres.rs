@@ -28,7 +28,7 @@ impl PostgresStore {
     pub async fn open(url: &str) -> Result<PostgresStore, StoreError> {
         // The URL may carry a password: errors name the problem, never the URL.
         let options = PgConnectOptions::from_str(url)
-            .map_err(|e| StoreError(format!("bad PostgreSQL URL: {e}")))?
+            .map_err(|e| StoreError::new(format!("bad PostgreSQL URL: {e}")))?
             .options([("lock_timeout", "5s"), ("statement_timeout", "30s")]);
         let pool = PgPoolOptions::new()
             .max_connections(8)
@@ -38,7 +38,7 @@ impl PostgresStore {
         sqlx::migrate!("./migrations/postgres")
             .run(&pool)
             .await
-            .map_err(|e| StoreError(format!("migrations: {e}")))?;
+            .map_err(|e| StoreError::new(format!("migrations: {e}")))?;
         Ok(SqlStore {
             backend: PostgresBackend { pool },
         })

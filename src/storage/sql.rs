@@ -66,7 +66,7 @@ pub(super) struct NormRow {
 }
 
 fn corrupt(id: i64, what: &str) -> StoreError {
-    StoreError(format!("norm {id} is unreadable: {what}"))
+    StoreError::new(format!("norm {id} is unreadable: {what}"))
 }
 
 fn json_list(id: i64, column: &str, text: &str) -> Result<Vec<String>, StoreError> {
@@ -74,7 +74,7 @@ fn json_list(id: i64, column: &str, text: &str) -> Result<Vec<String>, StoreErro
 }
 
 pub(super) fn to_json(list: &[String]) -> Result<String, StoreError> {
-    serde_json::to_string(list).map_err(|e| StoreError(e.to_string()))
+    serde_json::to_string(list).map_err(|e| StoreError::new(e.to_string()))
 }
 
 fn normalised(names: Vec<String>) -> Vec<String> {
@@ -164,7 +164,7 @@ impl AuditRow {
         let json = |column: &str, text: Option<String>| -> Result<Option<serde_json::Value>, StoreError> {
             text.map(|t| serde_json::from_str(&t))
                 .transpose()
-                .map_err(|e| StoreError(format!("audit entry {id} is unreadable: {column}: {e}")))
+                .map_err(|e| StoreError::new(format!("audit entry {id} is unreadable: {column}: {e}")))
         };
         Ok(AuditEntry {
             id,
@@ -183,7 +183,7 @@ impl AuditRow {
 /// A verb row; a definition that is not a verb's JSON is a store error (fail closed).
 pub(super) fn action_from_row((name, text): (String, String)) -> Result<StoredAction, StoreError> {
     let definition =
-        serde_json::from_str(&text).map_err(|e| StoreError(format!("action `{name}` is unreadable: {e}")))?;
+        serde_json::from_str(&text).map_err(|e| StoreError::new(format!("action `{name}` is unreadable: {e}")))?;
     Ok((name, definition))
 }
 
@@ -431,7 +431,7 @@ impl<B: Backend> NormStore for SqlStore<B> {
         accept: &Accept,
         actor: &str,
     ) -> Result<Result<bool, crate::error::Error>, StoreError> {
-        let text = serde_json::to_string(definition).map_err(|e| StoreError(e.to_string()))?;
+        let text = serde_json::to_string(definition).map_err(|e| StoreError::new(e.to_string()))?;
         // The write lock is held from the start, so the library `accept` judges is the one
         // written to.
         let mut tx = self.backend.write().await?;

@@ -40,7 +40,7 @@ impl SqliteStore {
     /// and applies the embedded migrations.
     pub async fn open(url: &str) -> Result<SqliteStore, StoreError> {
         let options = SqliteConnectOptions::from_str(url)
-            .map_err(|e| StoreError(format!("bad database URL `{url}`: {e}")))?
+            .map_err(|e| StoreError::new(format!("bad database URL `{url}`: {e}")))?
             .create_if_missing(true)
             .journal_mode(SqliteJournalMode::Wal)
             .synchronous(SqliteSynchronous::Full)
@@ -54,13 +54,13 @@ impl SqliteStore {
         sqlx::migrate!("./migrations/sqlite")
             .run(&pool)
             .await
-            .map_err(|e| StoreError(format!("migrations: {e}")))?;
+            .map_err(|e| StoreError::new(format!("migrations: {e}")))?;
         let path = options.get_filename();
         let in_memory = url.contains(":memory:") || url.contains("mode=memory");
         let file = if in_memory {
             None
         } else {
-            let id = identity(path).map_err(|e| StoreError(format!("{}: {e}", path.display())))?;
+            let id = identity(path).map_err(|e| StoreError::new(format!("{}: {e}", path.display())))?;
             Some((path.to_owned(), id))
         };
         Ok(SqlStore {
@@ -202,8 +202,11 @@ impl Backend for SqliteBackend {
         };
         match identity(path) {
             Ok(now) if now == *opened => Ok(()),
-            Ok(_) => Err(StoreError(format!("{} was replaced by another file", path.display()))),
-            Err(e) => Err(StoreError(format!("{} is gone: {e}", path.display()))),
+            Ok(_) => Err(StoreError::new(format!(
+                "{} was replaced by another file",
+                path.display()
+            ))),
+            Err(e) => Err(StoreError::new(format!("{} is gone: {e}", path.display()))),
         }
     }
 

@@ -44,3 +44,6 @@ impl Arrival {
             .map_or_else(std::time::Instant::now, |a| a.0)
     }
 }
+
+/// Answers with more readings than this are converted and written on the blocking pool.
+pub const LARGE_ANSWER: usize = 512;

@@ -497,9 +497,15 @@ async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile(
         })
         .collect();
     let started = std::time::Instant::now();
+    let mut gave_up = 0;
     for handle in left {
-        assert!(handle.await.unwrap().is_err(), "the client gave up before an answer");
+        match handle.await.unwrap() {
+            Err(_) => gave_up += 1,
+            // Past one costly simulation per core, the rest are refused at once.
+            Ok(response) => assert_eq!(response.status(), StatusCode::SERVICE_UNAVAILABLE),
+        }
     }
+    assert!(gave_up >= 1, "some client gave up before an answer");
     // The abandoned simulations stop (they would have run to their 60 s deadline).
     let mut in_flight = String::new();
     for _ in 0..100 {

@@ -66,7 +66,14 @@ impl Clarifier for ClarifierService {
         let speaker = self.state.log_utterances.then(|| input.request.speaker.clone());
         let decision = self.state.core.clarify(input, arrived).await?;
         crate::transport::observe::log_decision(&self.state, &decision, text.as_deref(), speaker.as_deref());
-        Ok(Response::new(DecisionDto::new(&decision, text).into()))
+        if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
+            return Ok(Response::new(DecisionDto::new(&decision, text).into()));
+        }
+        // As over REST: a large answer is converted on the blocking pool.
+        let answer = tokio::task::spawn_blocking(move || pb::ClarifyResponse::from(DecisionDto::new(&decision, text)))
+            .await
+            .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
+        Ok(Response::new(answer))
     }
 
     async fn check(&self, request: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {

@@ -442,14 +442,27 @@ async fn clarify(
     State(app): State<AppState>,
     arrival: Option<Extension<Arrival>>,
     JsonBody(body): JsonBody<ClarifyBody>,
-) -> Result<Json<DecisionDto>, Error> {
+) -> Result<Response, Error> {
     let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
     let mut input = ClarifyInput::from_body(body, &app.limits)?;
     let text = input.text.take();
     let speaker = app.log_utterances.then(|| input.request.speaker.clone());
     let decision = app.core.clarify(input, arrived).await?;
     crate::transport::observe::log_decision(&app, &decision, text.as_deref(), speaker.as_deref());
-    Ok(Json(DecisionDto::new(&decision, text)))
+    if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
+        return Ok(Json(DecisionDto::new(&decision, text)).into_response());
+    }
+    // Tens of megabytes of JSON take a runtime thread for tens of milliseconds: written on the
+    // blocking pool, so that health checks and small decisions are not held behind it.
+    let body = tokio::task::spawn_blocking(move || serde_json::to_vec(&DecisionDto::new(&decision, text)))
+        .await
+        .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?
+        .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
+    Ok((
+        [(header::CONTENT_TYPE, HeaderValue::from_static("application/json"))],
+        body,
+    )
+        .into_response())
 }
 
 #[utoipa::path(post, path = "/v1/check", tag = "clarify",

@@ -1,0 +1,194 @@
+//! A bounded heavy load against a running Scruple: CLIENTS clients, each sending "Put the cup on
+//! the plate." over SIZE cups × SIZE plates (SIZE² readings) again and again for SECONDS, while
+//! a prober asks `/healthz` every 100 ms. Prints what a robot fleet would see: how late each
+//! answer came against its deadline, the statuses (and problem types of the 503s), and health's
+//! latency. A client told to retry later (503 with Retry-After) waits that long, as a robot
+//! should. Traffic goes only to the address given (loopback in scripts/heavy-load.sh).
+//!
+//! Usage: `cargo run --release --example heavy_load -- ADDR [CLIENTS] [SECONDS] [SIZE] [DEADLINE_MS]`
+//! (defaults 64, 30, 316, 2000). Exits nonzero unless every answer came within its deadline +
+//! 250 ms (or was a 503 `overloaded`), no answer was `norms-unavailable`, and health's p99 was
+//! within 50 ms.
+
+use std::collections::BTreeMap;
+use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use serde_json::{Value, json};
+
+/// Slack over the deadline an answer may take: the response's encoding and the loopback trip.
+const SLACK: Duration = Duration::from_millis(250);
+
+fn scene(size: usize) -> Value {
+    // Cups and plates on a table in front of the arm, metres, world frame: all within reach.
+    let mut objects = Vec::with_capacity(2 * size);
+    for i in 0..size {
+        let y = -0.3 + 0.6 * i as f64 / size as f64;
+        objects.push(json!({"id": format!("cup{i}"), "type": "cup", "position": [0.4, y, 0.8]}));
+        objects.push(json!({"id": format!("plate{i}"), "type": "plate", "position": [0.5, y, 0.76]}));
+    }
+    json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects})
+}
+
+#[derive(Default)]
+struct Tally {
+    /// By status, and for a 503 its problem type.
+    outcomes: BTreeMap<String, u64>,
+    /// Answer latencies (send to response head), for 200s.
+    answered: Vec<Duration>,
+    /// Answers that came later than deadline + SLACK.
+    late: u64,
+    latest: Duration,
+    health: Vec<Duration>,
+    health_failures: u64,
+}
+
+fn quantile(sorted: &[Duration], q: f64) -> Duration {
+    if sorted.is_empty() {
+        return Duration::ZERO;
+    }
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn ms(d: Duration) -> String {
+    format!("{:.1} ms", d.as_secs_f64() * 1000.0)
+}
+
+#[tokio::main]
+async fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(addr) = args.first() else {
+        eprintln!("usage: heavy_load ADDR [CLIENTS] [SECONDS] [SIZE] [DEADLINE_MS]");
+        return ExitCode::from(2);
+    };
+    let number = |i: usize, default: u64| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(default);
+    let (clients, seconds, size, deadline_ms) = (number(1, 64), number(2, 30), number(3, 316), number(4, 2000));
+    let deadline = Duration::from_millis(deadline_ms);
+    let body = Arc::new(
+        serde_json::to_vec(&json!({
+            "directive": {"action": "put", "arguments": [{"type": "cup"}, {"type": "plate"}]},
+            "scene": scene(size as usize),
+            "options": {"deadline_ms": deadline_ms, "max_readings": 100_000},
+        }))
+        .expect("the body is JSON"),
+    );
+    // reqwest's rustls has no provider of its own here (cleartext, but it is built in).
+    let _ = rustls::crypto::ring::default_provider().install_default();
+    let client = reqwest::Client::builder()
+        .pool_max_idle_per_host(clients as usize)
+        .build()
+        .expect("a client");
+    let tally = Arc::new(Mutex::new(Tally::default()));
+    let until = Instant::now() + Duration::from_secs(seconds);
+
+    let mut tasks = Vec::new();
+    for _ in 0..clients {
+        let (client, body, tally) = (client.clone(), body.clone(), tally.clone());
+        let url = format!("http://{addr}/v1/clarify");
+        tasks.push(tokio::spawn(async move {
+            while Instant::now() < until {
+                let sent = Instant::now();
+                let response = client
+                    .post(&url)
+                    .header("content-type", "application/json")
+                    .body(body.as_ref().clone())
+                    .timeout(Duration::from_secs(120))
+                    .send()
+                    .await;
+                let took = sent.elapsed();
+                let outcome = match response {
+                    Err(e) => format!("error: {}", if e.is_timeout() { "timeout" } else { "connection" }),
+                    Ok(r) => {
+                        let status = r.status().as_u16();
+                        // A well-behaved client waits as long as a 503 asks before trying again.
+                        let retry_after = (r.headers().get("retry-after"))
+                            .and_then(|v| v.to_str().ok()?.parse::<u64>().ok())
+                            .map(Duration::from_secs);
+                        let text = r.bytes().await.unwrap_or_default();
+                        if let Some(wait) = retry_after {
+                            tokio::time::sleep(wait.min(until.saturating_duration_since(Instant::now()))).await;
+                        }
+                        if status == 200 {
+                            let mut t = tally.lock().unwrap();
+                            t.answered.push(took);
+                            if took > deadline + SLACK {
+                                t.late += 1;
+                            }
+                            t.latest = t.latest.max(took);
+                            "200".to_owned()
+                        } else {
+                            let problem: Value = serde_json::from_slice(&text).unwrap_or(Value::Null);
+                            format!("{status} {}", problem["type"].as_str().unwrap_or("?"))
+                        }
+                    }
+                };
+                *tally.lock().unwrap().outcomes.entry(outcome).or_default() += 1;
+            }
+        }));
+    }
+    let prober = {
+        let (client, tally) = (client.clone(), tally.clone());
+        let url = format!("http://{addr}/healthz");
+        tokio::spawn(async move {
+            while Instant::now() < until {
+                let sent = Instant::now();
+                let ok = client
+                    .get(&url)
+                    .timeout(Duration::from_secs(10))
+                    .send()
+                    .await
+                    .is_ok_and(|r| r.status().is_success());
+                {
+                    let mut t = tally.lock().unwrap();
+                    t.health.push(sent.elapsed());
+                    if !ok {
+                        t.health_failures += 1;
+                    }
+                }
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        })
+    };
+    for task in tasks {
+        let _ = task.await;
+    }
+    let _ = prober.await;
+
+    let mut t = tally.lock().unwrap();
+    t.answered.sort();
+    t.health.sort();
+    println!(
+        "clients {clients}, {seconds} s, {size} cups x {size} plates ({} readings), deadline {deadline_ms} ms",
+        size * size
+    );
+    for (outcome, n) in &t.outcomes {
+        println!("  {outcome}: {n}");
+    }
+    println!(
+        "  answers: p50 {}, p99 {}, latest {}; later than deadline + {}: {}",
+        ms(quantile(&t.answered, 0.5)),
+        ms(quantile(&t.answered, 0.99)),
+        ms(t.latest),
+        ms(SLACK),
+        t.late
+    );
+    let health_p99 = quantile(&t.health, 0.99);
+    println!(
+        "  /healthz: {} probes, p50 {}, p99 {}, max {}, failed {}",
+        t.health.len(),
+        ms(quantile(&t.health, 0.5)),
+        ms(health_p99),
+        ms(t.health.last().copied().unwrap_or_default()),
+        t.health_failures
+    );
+    let unavailable: u64 = t
+        .outcomes
+        .iter()
+        .filter(|(k, _)| !(k.as_str() == "200" || k.as_str() == "503 /problems/overloaded"))
+        .map(|(_, n)| n)
+        .sum();
+    let ok = t.late == 0 && unavailable == 0 && health_p99 <= Duration::from_millis(50) && t.health_failures == 0;
+    println!("  verdict: {}", if ok { "PASS" } else { "FAIL" });
+    if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+}

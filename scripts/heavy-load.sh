@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Heavy load, the part that is correctness: CLIENTS clients each sending 316 cups x 316 plates
+# (99,856 readings, the default 2 s deadline) for SECONDS against the release server on
+# 127.0.0.1, with /healthz probed every 100 ms (examples/heavy_load.rs). Passes when every answer
+# comes within its deadline + 250 ms (or is a 503 overloaded), none is norms-unavailable, and
+# health's p99 is within 50 ms. Bounded: it stops by itself after SECONDS.
+# Usage: scripts/heavy-load.sh [CLIENTS, default 64] [SECONDS, default 30] [BINARY]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+. scripts/lib.sh
+clients=${1:-64}
+seconds=${2:-30}
+binary=${3:-target/release/scruple}
+if [ "$binary" = target/release/scruple ]; then
+  cargo build --release --quiet --bin scruple --example heavy_load
+  generator=target/release/examples/heavy_load
+else
+  cargo build --quiet --example heavy_load
+  generator=target/debug/examples/heavy_load
+fi
+work=$(mktemp -d)
+"$binary" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/heavy.db" >"$work/out" 2>"$work/err" &
+server=$!
+trap 'kill $server 2>/dev/null || true; rm -rf "$work"' EXIT
+addr=$(listening_addr "$work/out") || { cat "$work/err" >&2; exit 1; }
+"$generator" "$addr" "$clients" "$seconds" 316 2000
