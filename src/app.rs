@@ -171,7 +171,15 @@ impl Application {
 /// echoed on the response; the trace span carrying it; metrics; admission. A refused request is
 /// still traced and counted.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
-    let metrics = state.metrics.clone();
+    let observer = observe::Observer::new(
+        state.metrics.clone(),
+        &[
+            grpc::pb::FILE_DESCRIPTOR_SET,
+            tonic_health::pb::FILE_DESCRIPTOR_SET,
+            tonic_reflection::pb::v1::FILE_DESCRIPTOR_SET,
+            tonic_reflection::pb::v1alpha::FILE_DESCRIPTOR_SET,
+        ],
+    );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
     let request_id = HeaderName::from_static(observe::REQUEST_ID);
     Ok(rest::router(state)
@@ -179,7 +187,7 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
         .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
-        .layer(axum::middleware::from_fn_with_state(metrics, observe::observe))
+        .layer(axum::middleware::from_fn_with_state(observer, observe::observe))
         .layer(TraceLayer::new_for_http().make_span_with(observe::span))
         .layer(PropagateRequestIdLayer::new(request_id.clone()))
         .layer(SetRequestIdLayer::new(request_id, MakeRequestUuid)))
