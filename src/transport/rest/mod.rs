@@ -119,31 +119,70 @@ impl FromRequestParts<AppState> for Reader {
     }
 }
 
-/// `If-Match`: absent or `*` asks for no precondition; otherwise one ETag as the API gave it
-/// (`"12"`; a weakened `W/"12"` is taken too). Anything else can match no revision, so the
+/// `If-Match` (RFC 9110 §13.1.1): absent or `*` asks for no precondition; otherwise a list of
+/// entity tags, any of which may match. The comparison is strong, so a weak tag (`W/"12"`)
+/// never matches a write, nor does anything but a tag as the API gives them (`"12"`): such a
 /// write is refused as stale rather than done unconditionally.
-pub struct IfMatch(Option<i64>);
+pub enum IfMatch {
+    Any,
+    /// The revisions of the strong tags listed, and the header as sent (for the 412's words).
+    Tags(Vec<i64>, String),
+}
 
 impl FromRequestParts<AppState> for IfMatch {
     type Rejection = Error;
 
     async fn from_request_parts(parts: &mut Parts, _: &AppState) -> Result<Self, Error> {
         let Some(value) = parts.headers.get(header::IF_MATCH) else {
-            return Ok(IfMatch(None));
+            return Ok(IfMatch::Any);
         };
         let text = value.to_str().unwrap_or_default().trim();
         if text == "*" {
-            return Ok(IfMatch(None));
+            return Ok(IfMatch::Any);
         }
-        let tag = text.strip_prefix("W/").unwrap_or(text);
-        let revision = tag
-            .strip_prefix('"')
-            .and_then(|t| t.strip_suffix('"'))
-            .and_then(|t| t.parse::<i64>().ok())
-            .filter(|r| *r >= 0)
-            // No stored revision is negative: an unreadable tag is a precondition that fails.
-            .unwrap_or(-1);
-        Ok(IfMatch(Some(revision)))
+        let revisions = text
+            .split(',')
+            .filter_map(|tag| {
+                tag.trim()
+                    .strip_prefix('"')?
+                    .strip_suffix('"')?
+                    .parse::<i64>()
+                    .ok()
+                    .filter(|r| *r >= 0)
+            })
+            .collect();
+        Ok(IfMatch::Tags(revisions, text.chars().take(200).collect()))
+    }
+}
+
+impl IfMatch {
+    /// The revision a write is made conditional on: none for `*`; the one tag listed; with
+    /// several, the current revision when it is among them (the store still checks it has not
+    /// moved since). `current` is read only then; `what` names the thing for a 412.
+    async fn expected(
+        self,
+        what: impl FnOnce() -> String,
+        current: impl Future<Output = Result<i64, Error>>,
+    ) -> Result<Option<i64>, Error> {
+        let (revisions, sent) = match self {
+            IfMatch::Any => return Ok(None),
+            IfMatch::Tags(revisions, _) if revisions.len() == 1 => return Ok(Some(revisions[0])),
+            IfMatch::Tags(revisions, sent) => (revisions, sent),
+        };
+        let current = current.await?;
+        if revisions.contains(&current) {
+            return Ok(Some(current));
+        }
+        let expected = if revisions.is_empty() {
+            format!("{sent} (no strong entity tag: a weak one never matches a write)")
+        } else {
+            format!("any of {sent}")
+        };
+        Err(Error::Stale {
+            what: what(),
+            expected,
+            current,
+        })
     }
 }
 
@@ -153,6 +192,12 @@ fn with_etag(mut response: Response, revision: i64) -> Response {
         response.headers_mut().insert(header::ETAG, value);
     }
     response
+}
+
+/// The revision a conditional write on norm `id` expects.
+async fn norm_revision(app: &AppState, id: i64, if_match: IfMatch) -> Result<Option<i64>, Error> {
+    let current = async { Ok(app.core.get_norm(id).await?.revision) };
+    if_match.expected(|| format!("norm {id}"), current).await
 }
 
 /// A norm id from the path; anything but an integer names no norm.
@@ -270,11 +315,12 @@ async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>
 async fn replace_norm(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     Path(id): Path<String>,
     JsonBody(body): JsonBody<NormBody>,
 ) -> Result<Response, Error> {
     let id = norm_id(&id)?;
+    let expected = norm_revision(&app, id, if_match).await?;
     let norm = app
         .core
         .replace_norm(id, body.for_replace(id)?, expected, &actor)
@@ -300,10 +346,12 @@ async fn replace_norm(
 async fn delete_norm(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     Path(id): Path<String>,
 ) -> Result<StatusCode, Error> {
-    app.core.delete_norm(norm_id(&id)?, expected, &actor).await?;
+    let id = norm_id(&id)?;
+    let expected = norm_revision(&app, id, if_match).await?;
+    app.core.delete_norm(id, expected, &actor).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -347,9 +395,11 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
 async fn import_norms(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     JsonBody(body): JsonBody<NormSetBody>,
 ) -> Result<Response, Error> {
+    let current = async { Ok(app.core.export_norms().await?.0) };
+    let expected = if_match.expected(|| "the norm set".to_owned(), current).await?;
     let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
     let (version, norms) = app.core.import_norms(inputs, expected, &actor).await?;
     let set = NormSetDto {
