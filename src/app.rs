@@ -7,7 +7,6 @@ use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
 
-use axum::serve::ListenerExt;
 use tokio::net::TcpListener;
 
 use axum::http::HeaderName;
@@ -21,6 +20,7 @@ use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
+use crate::transport::conn::{self, ConnConfig};
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, grpc, observe, rest};
 
@@ -47,6 +47,8 @@ pub struct Config {
     /// Serve REST and gRPC over TLS with this certificate and key; cleartext (HTTP/1.1 and h2c)
     /// without.
     pub tls: Option<TlsFiles>,
+    /// Connection limits and timeouts, and the drain deadline.
+    pub connections: ConnConfig,
 }
 
 impl Config {
@@ -63,6 +65,7 @@ impl Config {
             admission: AdmissionConfig::default(),
             log_utterances: false,
             tls: None,
+            connections: ConnConfig::default(),
         }
     }
 }
@@ -96,6 +99,7 @@ pub struct Application {
     listener: TcpListener,
     router: axum::Router,
     tls: Option<Tls>,
+    connections: ConnConfig,
 }
 
 impl Application {
@@ -111,6 +115,7 @@ impl Application {
         if config.admission.max_concurrent == 0 {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
+        config.connections.check().map_err(StartError::Config)?;
         // Before the store, so that bad certificate files fail fast and touch nothing.
         let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
@@ -133,6 +138,7 @@ impl Application {
             listener,
             router: one_port(state, Admission::new(config.admission, metrics)).await?,
             tls,
+            connections: config.connections,
         })
     }
 
@@ -140,27 +146,10 @@ impl Application {
         self.listener.local_addr()
     }
 
-    /// Serves until `shutdown` completes, then drains in-flight requests and returns.
+    /// Serves until `shutdown` completes, then drains in-flight requests and returns, at the
+    /// latest at the drain deadline (`--drain-timeout-ms`).
     pub async fn run_until(self, shutdown: impl Future<Output = ()> + Send + 'static) -> std::io::Result<()> {
-        // Small request/response exchanges must not wait on Nagle's algorithm: without
-        // TCP_NODELAY, gRPC calls stall ~40 ms on delayed ACKs.
-        let listener = self.listener.tap_io(|tcp| {
-            if let Err(e) = tcp.set_nodelay(true) {
-                tracing::warn!(error = %e, "cannot set TCP_NODELAY");
-            }
-        });
-        match self.tls {
-            None => {
-                axum::serve(listener, self.router)
-                    .with_graceful_shutdown(shutdown)
-                    .await
-            }
-            Some(tls) => {
-                axum::serve(tls.listen(listener)?, self.router)
-                    .with_graceful_shutdown(shutdown)
-                    .await
-            }
-        }
+        conn::serve(self.listener, self.tls, self.router, self.connections, shutdown).await
     }
 }
 

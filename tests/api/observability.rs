@@ -194,7 +194,9 @@ async fn made_up_methods_and_paths_do_not_grow_the_metrics() {
         .lines()
         .filter_map(|l| l.split("method=\"").nth(1)?.split('"').next())
         .collect();
-    let known = ["GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS", "CONNECT", "TRACE", "other"];
+    let known = [
+        "GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS", "CONNECT", "TRACE", "other",
+    ];
     assert!(methods.iter().all(|m| known.contains(m)), "{methods:?}");
     let statuses: std::collections::BTreeSet<&str> = text
         .lines()

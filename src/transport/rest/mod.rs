@@ -1,7 +1,8 @@
 //! REST over axum: routes, body parsing, the admin-token check.
 //!
 //! Owns: HTTP concerns only. Must not: validate domain input (that is `api`), decide anything
-//! (that is `core`), or answer any failure except through `Error`.
+//! (that is `core`), or answer any failure except through `Error` (or, for a body that did not
+//! arrive in time, the connection layer's 408 problem).
 
 use axum::extract::{DefaultBodyLimit, FromRequest, FromRequestParts, Path, Request, State};
 use axum::http::request::Parts;
@@ -22,6 +23,7 @@ use crate::api::{
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::auth::Access;
+use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 
 mod doc;
@@ -64,34 +66,42 @@ pub fn router(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large → 413.
+/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large → 413, not
+/// arrived in time → 408.
 pub struct JsonBody<T>(pub T);
 
 impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
-    type Rejection = Error;
+    type Rejection = Response;
 
-    async fn from_request(req: Request, state: &AppState) -> Result<Self, Error> {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, Response> {
         if let Some(content_type) = req.headers().get(header::CONTENT_TYPE) {
             let text = content_type.to_str().unwrap_or_default().to_ascii_lowercase();
             let essence = text.split(';').next().unwrap_or_default().trim();
             if essence != "application/json" && !essence.ends_with("+json") {
                 return Err(Error::UnsupportedMediaType {
                     detail: format!("send the body as application/json, not `{essence}`"),
-                });
+                }
+                .into_response());
             }
         }
+        let version = req.version();
         let bytes = Bytes::from_request(req, state).await.map_err(|rejection| {
+            if let Some(timeout) = conn::body::timed_out(&rejection) {
+                return Protocol::RequestTimeout.response(timeout.to_string(), version);
+            }
             if rejection.status() == StatusCode::PAYLOAD_TOO_LARGE {
                 Error::PayloadTooLarge {
                     limit: state.max_body_bytes,
                 }
+                .into_response()
             } else {
                 Error::MalformedBody {
                     detail: rejection.body_text(),
                 }
+                .into_response()
             }
         })?;
-        parse_json(&bytes).map(JsonBody)
+        parse_json(&bytes).map(JsonBody).map_err(IntoResponse::into_response)
     }
 }
 
