@@ -26,6 +26,7 @@ use crate::transport::auth::Access;
 use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 
+mod coding;
 mod doc;
 mod playground;
 
@@ -66,8 +67,8 @@ pub fn router(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large → 413, not
-/// arrived in time → 408.
+/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large (as sent or once
+/// decoded) → 413, not JSON or in an unknown coding → 415, not arrived in time → 408.
 pub struct JsonBody<T>(pub T);
 
 impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
@@ -84,6 +85,7 @@ impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
                 .into_response());
             }
         }
+        let coding = coding::of(req.headers()).map_err(IntoResponse::into_response)?;
         let version = req.version();
         let bytes = Bytes::from_request(req, state).await.map_err(|rejection| {
             if let Some(timeout) = conn::body::timed_out(&rejection) {
@@ -101,6 +103,7 @@ impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
                 .into_response()
             }
         })?;
+        let bytes = coding::decode(coding, bytes, state.max_body_bytes).map_err(IntoResponse::into_response)?;
         parse_json(&bytes).map(JsonBody).map_err(IntoResponse::into_response)
     }
 }
