@@ -561,8 +561,8 @@ async fn serve_http1<IO>(
 /// The problem in place of hyper's bodiless answer with `status`, in words from its error.
 fn hyper_error_problem(status: u16, error: Option<hyper::Error>, tls_on_cleartext: bool) -> Vec<u8> {
     match status {
-        414 => Protocol::UriTooLong.raw("the request target is longer than this service reads"),
-        431 => Protocol::HeadersTooLarge.raw("the request has more header fields, or a larger head, than this service reads"),
+        414 => Protocol::UriTooLong.raw("the request target is longer than 65,534 bytes"),
+        431 => Protocol::HeadersTooLarge.raw("the request has more than 100 header fields, or a head larger than this service reads"),
         _ if tls_on_cleartext => Protocol::BadRequest.raw(
             "this port speaks cleartext HTTP, and a TLS handshake was sent: use http://, or start the service with --tls-cert and --tls-key",
         ),
