@@ -315,7 +315,8 @@ async fn connection(accepted: Accepted, shared: Arc<Shared>, mut drain: watch::R
                 _ = drain.wait_for(|draining| *draining) => None,
             };
             if let Some(tls) = tls {
-                serve_io(tls, started, &shared, drain).await;
+                // The handshake has its own timeout; the head's starts after it.
+                serve_io(tls, Instant::now(), &shared, drain).await;
             }
         }
         _ => serve_io(stream, started, &shared, drain).await,
