@@ -7,7 +7,6 @@ use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
 
-use axum::serve::ListenerExt;
 use tokio::net::TcpListener;
 
 use axum::http::HeaderName;
@@ -21,6 +20,7 @@ use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
+use crate::transport::conn::{self, ConnConfig};
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, grpc, observe, rest};
 
@@ -47,6 +47,8 @@ pub struct Config {
     /// Serve REST and gRPC over TLS with this certificate and key; cleartext (HTTP/1.1 and h2c)
     /// without.
     pub tls: Option<TlsFiles>,
+    /// Connection limits and timeouts, and the drain deadline.
+    pub connections: ConnConfig,
 }
 
 impl Config {
@@ -63,6 +65,7 @@ impl Config {
             admission: AdmissionConfig::default(),
             log_utterances: false,
             tls: None,
+            connections: ConnConfig::default(),
         }
     }
 }
@@ -96,6 +99,7 @@ pub struct Application {
     listener: TcpListener,
     router: axum::Router,
     tls: Option<Tls>,
+    connections: ConnConfig,
 }
 
 impl Application {
@@ -111,6 +115,7 @@ impl Application {
         if config.admission.max_concurrent == 0 {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
+        config.connections.check().map_err(StartError::Config)?;
         // Before the store, so that bad certificate files fail fast and touch nothing.
         let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
@@ -133,6 +138,7 @@ impl Application {
             listener,
             router: one_port(state, Admission::new(config.admission, metrics)).await?,
             tls,
+            connections: config.connections,
         })
     }
 
@@ -140,27 +146,10 @@ impl Application {
         self.listener.local_addr()
     }
 
-    /// Serves until `shutdown` completes, then drains in-flight requests and returns.
+    /// Serves until `shutdown` completes, then drains in-flight requests and returns, at the
+    /// latest at the drain deadline (`--drain-timeout-ms`).
     pub async fn run_until(self, shutdown: impl Future<Output = ()> + Send + 'static) -> std::io::Result<()> {
-        // Small request/response exchanges must not wait on Nagle's algorithm: without
-        // TCP_NODELAY, gRPC calls stall ~40 ms on delayed ACKs.
-        let listener = self.listener.tap_io(|tcp| {
-            if let Err(e) = tcp.set_nodelay(true) {
-                tracing::warn!(error = %e, "cannot set TCP_NODELAY");
-            }
-        });
-        match self.tls {
-            None => {
-                axum::serve(listener, self.router)
-                    .with_graceful_shutdown(shutdown)
-                    .await
-            }
-            Some(tls) => {
-                axum::serve(tls.listen(listener)?, self.router)
-                    .with_graceful_shutdown(shutdown)
-                    .await
-            }
-        }
+        conn::serve(self.listener, self.tls, self.router, self.connections, shutdown).await
     }
 }
 
@@ -171,7 +160,15 @@ impl Application {
 /// echoed on the response; the trace span carrying it; metrics; admission. A refused request is
 /// still traced and counted.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
-    let metrics = state.metrics.clone();
+    let observer = observe::Observer::new(
+        state.metrics.clone(),
+        &[
+            grpc::pb::FILE_DESCRIPTOR_SET,
+            tonic_health::pb::FILE_DESCRIPTOR_SET,
+            tonic_reflection::pb::v1::FILE_DESCRIPTOR_SET,
+            tonic_reflection::pb::v1alpha::FILE_DESCRIPTOR_SET,
+        ],
+    );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
     let request_id = HeaderName::from_static(observe::REQUEST_ID);
     Ok(rest::router(state)
@@ -179,7 +176,7 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
         .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
-        .layer(axum::middleware::from_fn_with_state(metrics, observe::observe))
+        .layer(axum::middleware::from_fn_with_state(observer, observe::observe))
         .layer(TraceLayer::new_for_http().make_span_with(observe::span))
         .layer(PropagateRequestIdLayer::new(request_id.clone()))
         .layer(SetRequestIdLayer::new(request_id, MakeRequestUuid)))

@@ -17,6 +17,10 @@ use scruple::transport::admission::{
     AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
 };
 use scruple::transport::auth::LabelledSecret;
+use scruple::transport::conn::{
+    ConnConfig, DEFAULT_BODY_TIMEOUT_MS, DEFAULT_DRAIN_TIMEOUT_MS, DEFAULT_HEADER_TIMEOUT_MS, DEFAULT_IDLE_TIMEOUT_MS,
+    DEFAULT_MAX_CONNECTIONS,
+};
 use scruple::transport::tls::TlsFiles;
 use tracing_subscriber::EnvFilter;
 
@@ -222,6 +226,32 @@ struct ServeArgs {
     /// Longest wait for a turn, milliseconds; then 503 with Retry-After.
     #[arg(long, env = "SCRUPLE_QUEUE_TIMEOUT_MS", default_value_t = DEFAULT_QUEUE_TIMEOUT_MS)]
     queue_timeout_ms: u64,
+    /// Longest wait for the whole head of a request, milliseconds, from the connection's start
+    /// or a head's first byte: a connection that says nothing is closed, part of a head is
+    /// answered 408.
+    #[arg(long, env = "SCRUPLE_HEADER_TIMEOUT_MS", default_value_t = DEFAULT_HEADER_TIMEOUT_MS,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    header_timeout_ms: u64,
+    /// Longest wait for a whole request body once its handler reads it, milliseconds (then
+    /// 408); a client that does not read an answer for this long is disconnected.
+    #[arg(long, env = "SCRUPLE_BODY_TIMEOUT_MS", default_value_t = DEFAULT_BODY_TIMEOUT_MS,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    body_timeout_ms: u64,
+    /// A kept-alive connection with no request open is closed after this many milliseconds
+    /// without a next request (HTTP/2: GOAWAY).
+    #[arg(long, env = "SCRUPLE_IDLE_TIMEOUT_MS", default_value_t = DEFAULT_IDLE_TIMEOUT_MS,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    idle_timeout_ms: u64,
+    /// Connections open at once; more wait in the kernel's backlog until one closes. Lowered
+    /// (with a warning) to what the open-file limit leaves room for.
+    #[arg(long, env = "SCRUPLE_MAX_CONNECTIONS", default_value_t = DEFAULT_MAX_CONNECTIONS,
+          value_parser = clap::value_parser!(u64).range(1..).map(|n| usize::try_from(n).unwrap_or(usize::MAX)))]
+    max_connections: usize,
+    /// After SIGTERM or Ctrl-C, milliseconds to let open requests finish; then the connections
+    /// still open are closed and the process exits 0 all the same.
+    #[arg(long, env = "SCRUPLE_DRAIN_TIMEOUT_MS", default_value_t = DEFAULT_DRAIN_TIMEOUT_MS,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    drain_timeout_ms: u64,
     /// Log lines as text for people or JSON for collectors (one object per line, with the
     /// request's span and its request id). Levels come from RUST_LOG (default info).
     #[arg(long, env = "SCRUPLE_LOG_FORMAT", value_enum, default_value_t = LogFormat::Text)]
@@ -292,6 +322,13 @@ impl ServeArgs {
                 // clap requires each with the other.
                 _ => None,
             },
+            connections: ConnConfig {
+                header_timeout: Duration::from_millis(self.header_timeout_ms),
+                body_timeout: Duration::from_millis(self.body_timeout_ms),
+                idle_timeout: Duration::from_millis(self.idle_timeout_ms),
+                max_connections: self.max_connections,
+                drain_timeout: Duration::from_millis(self.drain_timeout_ms),
+            },
         })
     }
 }
@@ -317,7 +354,7 @@ async fn shutdown_signal() {
         () = ctrl_c => {},
         () = terminate => {},
     }
-    tracing::info!("shutting down: draining in-flight requests");
+    tracing::info!("shutting down: draining in-flight requests until the drain deadline");
 }
 
 #[tokio::main]

@@ -17,15 +17,18 @@ use prometheus_client::registry::Registry;
 pub struct RequestLabels {
     /// The route template (`/v1/norms/{id}`), the gRPC method path, or `unmatched`.
     pub route: String,
-    pub method: String,
-    /// The HTTP status; for gRPC, the `grpc-status` code when the call failed.
+    /// One of the standard methods, or `other`.
+    pub method: &'static str,
+    /// The HTTP status the service answered; for gRPC, the `grpc-status` code (0..=16, or
+    /// `other`) when the call failed in its head, else 0.
     pub status: String,
 }
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 pub struct RouteLabels {
     pub route: String,
-    pub method: String,
+    /// One of the standard methods, or `other`.
+    pub method: &'static str,
 }
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]

@@ -653,6 +653,44 @@ fn every_config_map_and_secret_key_the_pods_read_exists_and_every_key_is_read() 
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
+/// The default of a `scruple serve` flag, as `--help` prints it (`[default: N]` after its
+/// `[env: NAME=...]`).
+fn default_of(env: &str) -> Option<String> {
+    let output = Command::new(BINARY).args(["serve", "--help"]).output().unwrap();
+    let help = String::from_utf8(output.stdout).unwrap();
+    let at = help.find(&format!("[env: {env}"))?;
+    let rest = &help[at..];
+    let default = rest.split("[default: ").nth(1)?.split(']').next()?;
+    Some(default.to_owned())
+}
+
+/// After SIGTERM the binary exits by its drain deadline, whatever clients do; Kubernetes SIGKILLs
+/// at `terminationGracePeriodSeconds`. The deadline must come first, with room for the store to
+/// close, or a slow client turns every rollout into a kill.
+#[test]
+fn the_drain_deadline_ends_well_inside_the_termination_grace_period() {
+    let objects = kustomized();
+    let deployment = the(&objects, "Deployment");
+    let grace_s = deployment.doc["spec"]["template"]["spec"]["terminationGracePeriodSeconds"]
+        .as_u64()
+        // Kubernetes' default.
+        .unwrap_or(30);
+    let config = entries(the(&objects, "ConfigMap"));
+    let drain_ms: u64 = config
+        .get("SCRUPLE_DRAIN_TIMEOUT_MS")
+        .cloned()
+        .or_else(|| default_of("SCRUPLE_DRAIN_TIMEOUT_MS"))
+        .expect("a drain deadline, from the ConfigMap or the binary's default")
+        .parse()
+        .expect("SCRUPLE_DRAIN_TIMEOUT_MS is a number");
+    const ROOM_MS: u64 = 5_000;
+    assert!(
+        drain_ms + ROOM_MS <= grace_s * 1000,
+        "{}: SCRUPLE_DRAIN_TIMEOUT_MS {drain_ms} leaves less than {ROOM_MS} ms of terminationGracePeriodSeconds {grace_s}",
+        deployment.what()
+    );
+}
+
 #[test]
 fn secrets_hold_only_placeholders() {
     for secret in objects().iter().filter(|m| m.kind() == "Secret") {

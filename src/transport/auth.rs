@@ -147,10 +147,7 @@ impl Tokens {
         if !guarded {
             return Ok(Arc::from(ANONYMOUS));
         }
-        let sent = authorization
-            .and_then(|v| v.strip_prefix("Bearer ").or_else(|| v.strip_prefix("bearer ")))
-            .map(str::trim)
-            .ok_or(Error::Unauthenticated)?;
+        let sent = authorization.and_then(bearer).ok_or(Error::Unauthenticated)?;
         let sent = digest(sent.as_bytes());
         // Every token is compared, whichever matches, so the time taken does not say which.
         let mut found: Option<&Token> = None;
@@ -167,6 +164,14 @@ impl Tokens {
         }
         Ok(token.label.clone())
     }
+}
+
+/// The token of an `Authorization` value with the Bearer scheme, which RFC 9110 §11.1 makes
+/// case-insensitive (`bearer`, `BEARER`); the token itself is compared exactly.
+fn bearer(authorization: &str) -> Option<&str> {
+    let (scheme, token) = authorization.trim().split_once(' ')?;
+    let token = token.trim_start();
+    (scheme.eq_ignore_ascii_case("bearer") && !token.is_empty()).then_some(token)
 }
 
 #[cfg(test)]

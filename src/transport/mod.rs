@@ -5,6 +5,7 @@
 
 pub mod admission;
 pub mod auth;
+pub mod conn;
 pub mod grpc;
 pub mod observe;
 pub mod rest;

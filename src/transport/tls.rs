@@ -2,16 +2,15 @@
 //! cross the network in clear where no ingress terminates TLS.
 //!
 //! Owns: reading the PEM files, taking up renewed ones without a restart, and handshakes, done
-//! off the accept loop so that one slow client cannot hold up the others.
+//! on each connection's own task (never the accept loop's) so that one slow client cannot hold
+//! up the others.
 //! Must not: know about HTTP; above the TLS stream everything is as in cleartext.
 
-use std::io;
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, RwLock};
 use std::time::{Duration, SystemTime};
 
-use axum::serve::Listener;
 use rustls::ServerConfig;
 use rustls::crypto::CryptoProvider;
 use rustls::pki_types::pem::PemObject;
@@ -19,7 +18,7 @@ use rustls::pki_types::{CertificateDer, PrivateKeyDer};
 use rustls::server::{ClientHello, ResolvesServerCert};
 use rustls::sign::CertifiedKey;
 use tokio::net::TcpStream;
-use tokio::sync::{Semaphore, mpsc};
+use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 use tokio::task::JoinHandle;
 use tokio_rustls::TlsAcceptor;
 use tokio_rustls::server::TlsStream;
@@ -130,22 +129,67 @@ impl Tls {
         })
     }
 
-    /// Accepts on `tcp` and hands on connections whose handshake succeeded. Needs a Tokio runtime.
-    pub fn listen<L>(self, tcp: L) -> io::Result<TlsListener>
-    where
-        L: Listener<Io = TcpStream, Addr = SocketAddr>,
-    {
-        let local = tcp.local_addr()?;
+    /// Starts taking up renewed files; the handshakes are `Handshakes::handshake`. Needs a Tokio
+    /// runtime.
+    pub fn start(self) -> Handshakes {
         tracing::info!(cert = %self.files.cert.display(), "serving REST and gRPC over TLS");
-        let (ready, incoming) = mpsc::channel(64);
         let acceptor = TlsAcceptor::from(self.config.clone());
-        let accepting = tokio::spawn(accept_loop(tcp, acceptor, ready));
         let watching = tokio::spawn(watch(self.files, self.provider, self.current));
-        Ok(TlsListener {
-            local,
-            incoming,
-            tasks: [accepting, watching],
-        })
+        Handshakes {
+            acceptor,
+            turns: Arc::new(Semaphore::new(MAX_HANDSHAKES)),
+            watching,
+        }
+    }
+}
+
+/// TLS in front of the accept loop: a turn to handshake before each accept, the handshake on the
+/// connection's task. Dropping it stops watching the files.
+pub struct Handshakes {
+    acceptor: TlsAcceptor,
+    turns: Arc<Semaphore>,
+    watching: JoinHandle<()>,
+}
+
+impl Drop for Handshakes {
+    fn drop(&mut self) {
+        self.watching.abort();
+    }
+}
+
+impl Handshakes {
+    /// Waits for one of the `MAX_HANDSHAKES` turns: the accept loop takes one before accepting,
+    /// so that beyond them new connections wait in the kernel's backlog.
+    pub async fn turn(&self) -> OwnedSemaphorePermit {
+        // The semaphore is never closed.
+        self.turns
+            .clone()
+            .acquire_owned()
+            .await
+            .unwrap_or_else(|_| unreachable!("the handshake semaphore is never closed"))
+    }
+
+    /// The handshake on `stream`, within `HANDSHAKE_TIMEOUT`; `None` when it fails (scanners and
+    /// cleartext clients land there: logged at debug). The turn ends with the handshake.
+    pub async fn handshake(
+        &self,
+        stream: TcpStream,
+        peer: SocketAddr,
+        turn: OwnedSemaphorePermit,
+    ) -> Option<TlsStream<TcpStream>> {
+        let outcome = tokio::time::timeout(HANDSHAKE_TIMEOUT, self.acceptor.accept(stream)).await;
+        drop(turn);
+        match outcome {
+            Ok(Ok(tls)) => Some(tls),
+            Ok(Err(error)) => {
+                tracing::debug!(%peer, %error, "TLS handshake failed");
+                None
+            }
+            Err(_) => {
+                tracing::debug!(%peer, "TLS handshake timed out");
+                None
+            }
+        }
     }
 }
 
@@ -170,68 +214,5 @@ async fn watch(files: TlsFiles, provider: Arc<CryptoProvider>, current: Arc<Curr
             // A renewal may write the two files one after the other; the second write retries.
             Err(error) => tracing::warn!(%error, "TLS certificate not reloaded; the previous one stays in use"),
         }
-    }
-}
-
-async fn accept_loop<L>(mut tcp: L, acceptor: TlsAcceptor, ready: mpsc::Sender<(TlsStream<TcpStream>, SocketAddr)>)
-where
-    L: Listener<Io = TcpStream, Addr = SocketAddr>,
-{
-    let handshakes = Arc::new(Semaphore::new(MAX_HANDSHAKES));
-    loop {
-        let Ok(permit) = handshakes.clone().acquire_owned().await else {
-            return;
-        };
-        // axum's TCP listener logs and retries failed accepts itself.
-        let (stream, peer) = tcp.accept().await;
-        let acceptor = acceptor.clone();
-        let ready = ready.clone();
-        tokio::spawn(async move {
-            let outcome = tokio::time::timeout(HANDSHAKE_TIMEOUT, acceptor.accept(stream)).await;
-            drop(permit);
-            match outcome {
-                Ok(Ok(tls)) => {
-                    // The receiver is gone only when the server has stopped.
-                    let _ = ready.send((tls, peer)).await;
-                }
-                // Scanners and cleartext clients land here: not worth more than debug.
-                Ok(Err(error)) => tracing::debug!(%peer, %error, "TLS handshake failed"),
-                Err(_) => tracing::debug!(%peer, "TLS handshake timed out"),
-            }
-        });
-    }
-}
-
-/// Connections that completed their TLS handshake, for `axum::serve`. Dropping it stops
-/// accepting and watching the files.
-pub struct TlsListener {
-    local: SocketAddr,
-    incoming: mpsc::Receiver<(TlsStream<TcpStream>, SocketAddr)>,
-    tasks: [JoinHandle<()>; 2],
-}
-
-impl Drop for TlsListener {
-    fn drop(&mut self) {
-        for task in &self.tasks {
-            task.abort();
-        }
-    }
-}
-
-impl Listener for TlsListener {
-    type Io = TlsStream<TcpStream>;
-    type Addr = SocketAddr;
-
-    async fn accept(&mut self) -> (Self::Io, Self::Addr) {
-        match self.incoming.recv().await {
-            Some(connection) => connection,
-            // The accept loop ended (it does not, short of a panic): accept nothing more and
-            // let the server run on until shutdown.
-            None => std::future::pending().await,
-        }
-    }
-
-    fn local_addr(&self) -> io::Result<SocketAddr> {
-        Ok(self.local)
     }
 }

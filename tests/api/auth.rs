@@ -175,3 +175,43 @@ async fn tokens_never_reach_the_log() {
     assert!(text.len() > 1000, "trace logging is on: {} bytes", text.len());
     assert!(!text.contains("SECRET"), "a secret reached the log");
 }
+
+/// RFC 9110 §11.1: the scheme is case-insensitive; the token itself is not.
+#[tokio::test]
+async fn the_bearer_scheme_is_matched_in_any_case() {
+    let app = spawn_with(Options {
+        admin_token: Some("s3cret".into()),
+        ..Options::default()
+    })
+    .await;
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    for header in ["Bearer s3cret", "bearer s3cret", "BEARER s3cret", "bEaReR   s3cret"] {
+        let response = app
+            .client
+            .post(app.url("/v1/norms"))
+            .header("authorization", header)
+            .json(&norm)
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(response.status(), StatusCode::CREATED, "{header}");
+    }
+    let wrong_case = app
+        .client
+        .post(app.url("/v1/norms"))
+        .header("authorization", "Bearer S3CRET")
+        .json(&norm)
+        .send()
+        .await
+        .unwrap();
+    assert_problem(wrong_case, StatusCode::FORBIDDEN, None).await;
+    let no_space = app
+        .client
+        .post(app.url("/v1/norms"))
+        .header("authorization", "Bearers3cret")
+        .json(&norm)
+        .send()
+        .await
+        .unwrap();
+    assert_problem(no_space, StatusCode::UNAUTHORIZED, None).await;
+}

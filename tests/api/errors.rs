@@ -317,3 +317,79 @@ async fn references_that_match_nothing_are_unresolved_not_errors() {
     assert_eq!(answer["decision"], "unresolved");
     assert_eq!(answer["utterance"], "I do not know what you mean by the vase.");
 }
+
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    encoder.write_all(bytes).unwrap();
+    encoder.finish().unwrap()
+}
+
+/// A gzip body is decoded (and the size limit applies to what it decodes to, so a zip bomb is
+/// 413); `identity` is no coding; any other coding is 415 naming it, never read as JSON.
+#[tokio::test]
+async fn content_encodings_are_decoded_or_refused_by_name() {
+    let app = spawn_with(Options {
+        max_body_bytes: 64 * 1024,
+        ..Options::default()
+    })
+    .await;
+    let send = |coding: &'static str, body: Vec<u8>| {
+        app.client
+            .post(app.url("/v1/clarify"))
+            .header("content-type", "application/json")
+            .header("content-encoding", coding)
+            .body(body)
+            .send()
+    };
+    let plain = serde_json::to_vec(&get_vase()).unwrap();
+    for coding in ["gzip", "x-gzip", "GZIP", "identity, gzip"] {
+        let response = send(coding, gzip(&plain)).await.unwrap();
+        assert_eq!(response.status(), StatusCode::OK, "{coding}");
+        assert_eq!(response.json::<Value>().await.unwrap()["decision"], "ask");
+    }
+    assert_eq!(send("identity", plain.clone()).await.unwrap().status(), StatusCode::OK);
+
+    let bomb = gzip(&vec![b' '; 10 * 1024 * 1024]);
+    assert!(bomb.len() < 64 * 1024, "the bomb itself is under the limit");
+    assert_problem(send("gzip", bomb).await.unwrap(), StatusCode::PAYLOAD_TOO_LARGE, None).await;
+    assert_problem(
+        send("gzip", plain.clone()).await.unwrap(),
+        StatusCode::BAD_REQUEST,
+        None,
+    )
+    .await;
+
+    for coding in ["bogus", "br", "deflate", "gzip, bogus"] {
+        let response = send(coding, plain.clone()).await.unwrap();
+        let problem = assert_problem(response, StatusCode::UNSUPPORTED_MEDIA_TYPE, None).await;
+        let named = coding.rsplit(", ").next().unwrap();
+        assert!(
+            problem["detail"].as_str().unwrap().contains(named),
+            "{coding}: {problem}"
+        );
+    }
+    // A norm body too, and nothing is stored from a refused one.
+    let norm = serde_json::to_vec(&json!({"kind": "forbidden_action", "action": "destroy"})).unwrap();
+    let refused = app
+        .client
+        .post(app.url("/v1/norms"))
+        .header("content-type", "application/json")
+        .header("content-encoding", "bogus")
+        .body(norm.clone())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(refused.status(), StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    assert!(app.norms().await.is_empty());
+    let created = app
+        .client
+        .post(app.url("/v1/norms"))
+        .header("content-type", "application/json")
+        .header("content-encoding", "gzip")
+        .body(gzip(&norm))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(created.status(), StatusCode::CREATED);
+}

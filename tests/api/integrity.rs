@@ -379,3 +379,79 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     )
     .await;
 }
+
+/// RFC 9110 §13.1.1: If-Match takes a list, any member of which may match, and compares strongly,
+/// so a weak tag never matches a write; `*` matches any current norm.
+#[tokio::test]
+async fn if_match_takes_a_list_and_never_matches_a_weak_tag() {
+    let app = spawn_app().await;
+    let id = app
+        .add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    let path = format!("/v1/norms/{id}");
+    let current = etag(&app.get(&path).await);
+    let revision: i64 = current.trim_matches('"').parse().unwrap();
+    let body = |action: &str| json!({"kind": "forbidden_action", "action": action});
+
+    let weak = format!("W/{current}");
+    let refused = put(&app, &path, Some(&weak), &body("steal")).await;
+    assert_problem(refused, StatusCode::PRECONDITION_FAILED, None).await;
+    assert_eq!(etag(&app.get(&path).await), current, "nothing written for a weak tag");
+
+    let list = format!("\"{}\", {current}", revision + 100);
+    let replaced = put(&app, &path, Some(&list), &body("steal")).await;
+    assert_eq!(replaced.status(), StatusCode::OK, "{list}");
+    let next = etag(&replaced);
+
+    let neither = format!("\"{}\", W/{next}, \"{}\"", revision + 100, revision + 200);
+    let refused = put(&app, &path, Some(&neither), &body("get")).await;
+    assert_problem(refused, StatusCode::PRECONDITION_FAILED, None).await;
+
+    let with_weak = format!("W/{next},{next}");
+    assert_eq!(
+        put(&app, &path, Some(&with_weak), &body("get")).await.status(),
+        StatusCode::OK
+    );
+    assert_eq!(
+        put(&app, &path, Some("*"), &body("point")).await.status(),
+        StatusCode::OK
+    );
+
+    // The same rules for a delete and for the whole norm set.
+    let current = etag(&app.get(&path).await);
+    let weak_delete = app
+        .client
+        .delete(app.url(&path))
+        .header("if-match", format!("W/{current}"))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(weak_delete.status(), StatusCode::PRECONDITION_FAILED);
+    let set = app.get("/v1/norm-set").await;
+    let version = etag(&set);
+    let norms: Value = set.json().await.unwrap();
+    let import = |tag: String| {
+        app.client
+            .put(app.url("/v1/norm-set"))
+            .header("if-match", tag)
+            .json(&json!({"norms": norms["norms"]}))
+            .send()
+    };
+    assert_eq!(
+        import(format!("W/{version}")).await.unwrap().status(),
+        StatusCode::PRECONDITION_FAILED
+    );
+    assert_eq!(
+        import(format!("\"999999\", {version}")).await.unwrap().status(),
+        StatusCode::OK
+    );
+    let current = etag(&app.get(&path).await);
+    let listed_delete = app
+        .client
+        .delete(app.url(&path))
+        .header("if-match", format!("\"0\", {current}"))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(listed_delete.status(), StatusCode::NO_CONTENT);
+}

@@ -160,3 +160,50 @@ async fn log_utterances_puts_the_words_and_the_speaker_in_the_decision_line() {
             .starts_with("Do you mean")
     );
 }
+
+/// Label values come from bounded sets whatever a client sends: a method outside the standard
+/// nine is `other`, and a gRPC content type on a REST path never makes the raw path a label.
+#[tokio::test]
+async fn made_up_methods_and_paths_do_not_grow_the_metrics() {
+    let app = spawn_app().await;
+    for i in 0..50 {
+        let method = reqwest::Method::from_bytes(format!("M{i}XXXX").as_bytes()).unwrap();
+        let response = app.client.request(method, app.url("/")).send().await.unwrap();
+        assert!(response.status().is_client_error(), "{}", response.status());
+    }
+    for i in 0..20 {
+        let _ = app
+            .client
+            .post(app.url(&format!("/v1/norms/{}", 90_000 + i)))
+            .header("content-type", "application/grpc")
+            .body("x")
+            .send()
+            .await
+            .unwrap();
+    }
+    let text = app.get("/metrics").await.text().await.unwrap();
+    assert!(!text.contains("XXXX"), "a made-up method became a label:\n{text}");
+    assert!(!text.contains("/v1/norms/900"), "a raw path became a label:\n{text}");
+    let others: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("scruple_http_requests_total{") && l.contains(r#"method="other""#))
+        .collect();
+    assert_eq!(others.len(), 1, "one series for every made-up method: {others:?}");
+    assert!(others[0].ends_with(" 50"), "{}", others[0]);
+    let methods: std::collections::BTreeSet<&str> = text
+        .lines()
+        .filter_map(|l| l.split("method=\"").nth(1)?.split('"').next())
+        .collect();
+    let known = [
+        "GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS", "CONNECT", "TRACE", "other",
+    ];
+    assert!(methods.iter().all(|m| known.contains(m)), "{methods:?}");
+    let statuses: std::collections::BTreeSet<&str> = text
+        .lines()
+        .filter_map(|l| l.split("status=\"").nth(1)?.split('"').next())
+        .collect();
+    assert!(
+        statuses.iter().all(|s| s.parse::<u16>().is_ok() || *s == "other"),
+        "{statuses:?}"
+    );
+}

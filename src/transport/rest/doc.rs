@@ -11,7 +11,7 @@ use utoipa::{Modify, OpenApi, ToSchema};
 #[openapi(
     info(
         title = "Scruple",
-        description = "Morally sensitive clarification of ambiguous robot directives: every reading is simulated against the norms and the robot's abilities before anything is asked, assumed or explained. Errors are application/problem+json (RFC 9457) with `field`, a JSON Pointer, where a field is at fault.",
+        description = "Morally sensitive clarification of ambiguous robot directives: every reading is simulated against the norms and the robot's abilities before anything is asked, assumed or explained. Errors are application/problem+json (RFC 9457) with `field`, a JSON Pointer, where a field is at fault; so are the answers to requests that are not valid HTTP (400 `/problems/bad-request`, 414 `/problems/uri-too-long`, 431 `/problems/headers-too-large`) or do not arrive in time (408 `/problems/request-timeout`), after which the connection closes.",
         license(name = "Apache-2.0", identifier = "Apache-2.0"),
     ),
     tags(

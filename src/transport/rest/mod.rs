@@ -1,7 +1,8 @@
 //! REST over axum: routes, body parsing, the admin-token check.
 //!
 //! Owns: HTTP concerns only. Must not: validate domain input (that is `api`), decide anything
-//! (that is `core`), or answer any failure except through `Error`.
+//! (that is `core`), or answer any failure except through `Error` (or, for a body that did not
+//! arrive in time, the connection layer's 408 problem).
 
 use axum::extract::{DefaultBodyLimit, FromRequest, FromRequestParts, Path, Request, State};
 use axum::http::request::Parts;
@@ -22,8 +23,10 @@ use crate::api::{
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::auth::Access;
+use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 
+mod coding;
 mod doc;
 mod playground;
 
@@ -64,34 +67,44 @@ pub fn router(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large → 413.
+/// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large (as sent or once
+/// decoded) → 413, not JSON or in an unknown coding → 415, not arrived in time → 408.
 pub struct JsonBody<T>(pub T);
 
 impl<T: DeserializeOwned> FromRequest<AppState> for JsonBody<T> {
-    type Rejection = Error;
+    type Rejection = Response;
 
-    async fn from_request(req: Request, state: &AppState) -> Result<Self, Error> {
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, Response> {
         if let Some(content_type) = req.headers().get(header::CONTENT_TYPE) {
             let text = content_type.to_str().unwrap_or_default().to_ascii_lowercase();
             let essence = text.split(';').next().unwrap_or_default().trim();
             if essence != "application/json" && !essence.ends_with("+json") {
                 return Err(Error::UnsupportedMediaType {
                     detail: format!("send the body as application/json, not `{essence}`"),
-                });
+                }
+                .into_response());
             }
         }
+        let coding = coding::of(req.headers()).map_err(IntoResponse::into_response)?;
+        let version = req.version();
         let bytes = Bytes::from_request(req, state).await.map_err(|rejection| {
+            if let Some(timeout) = conn::body::timed_out(&rejection) {
+                return Protocol::RequestTimeout.response(timeout.to_string(), version);
+            }
             if rejection.status() == StatusCode::PAYLOAD_TOO_LARGE {
                 Error::PayloadTooLarge {
                     limit: state.max_body_bytes,
                 }
+                .into_response()
             } else {
                 Error::MalformedBody {
                     detail: rejection.body_text(),
                 }
+                .into_response()
             }
         })?;
-        parse_json(&bytes).map(JsonBody)
+        let bytes = coding::decode(coding, bytes, state.max_body_bytes).map_err(IntoResponse::into_response)?;
+        parse_json(&bytes).map(JsonBody).map_err(IntoResponse::into_response)
     }
 }
 
@@ -119,31 +132,70 @@ impl FromRequestParts<AppState> for Reader {
     }
 }
 
-/// `If-Match`: absent or `*` asks for no precondition; otherwise one ETag as the API gave it
-/// (`"12"`; a weakened `W/"12"` is taken too). Anything else can match no revision, so the
+/// `If-Match` (RFC 9110 §13.1.1): absent or `*` asks for no precondition; otherwise a list of
+/// entity tags, any of which may match. The comparison is strong, so a weak tag (`W/"12"`)
+/// never matches a write, nor does anything but a tag as the API gives them (`"12"`): such a
 /// write is refused as stale rather than done unconditionally.
-pub struct IfMatch(Option<i64>);
+pub enum IfMatch {
+    Any,
+    /// The revisions of the strong tags listed, and the header as sent (for the 412's words).
+    Tags(Vec<i64>, String),
+}
 
 impl FromRequestParts<AppState> for IfMatch {
     type Rejection = Error;
 
     async fn from_request_parts(parts: &mut Parts, _: &AppState) -> Result<Self, Error> {
         let Some(value) = parts.headers.get(header::IF_MATCH) else {
-            return Ok(IfMatch(None));
+            return Ok(IfMatch::Any);
         };
         let text = value.to_str().unwrap_or_default().trim();
         if text == "*" {
-            return Ok(IfMatch(None));
+            return Ok(IfMatch::Any);
         }
-        let tag = text.strip_prefix("W/").unwrap_or(text);
-        let revision = tag
-            .strip_prefix('"')
-            .and_then(|t| t.strip_suffix('"'))
-            .and_then(|t| t.parse::<i64>().ok())
-            .filter(|r| *r >= 0)
-            // No stored revision is negative: an unreadable tag is a precondition that fails.
-            .unwrap_or(-1);
-        Ok(IfMatch(Some(revision)))
+        let revisions = text
+            .split(',')
+            .filter_map(|tag| {
+                tag.trim()
+                    .strip_prefix('"')?
+                    .strip_suffix('"')?
+                    .parse::<i64>()
+                    .ok()
+                    .filter(|r| *r >= 0)
+            })
+            .collect();
+        Ok(IfMatch::Tags(revisions, text.chars().take(200).collect()))
+    }
+}
+
+impl IfMatch {
+    /// The revision a write is made conditional on: none for `*`; the one tag listed; with
+    /// several, the current revision when it is among them (the store still checks it has not
+    /// moved since). `current` is read only then; `what` names the thing for a 412.
+    async fn expected(
+        self,
+        what: impl FnOnce() -> String,
+        current: impl Future<Output = Result<i64, Error>>,
+    ) -> Result<Option<i64>, Error> {
+        let (revisions, sent) = match self {
+            IfMatch::Any => return Ok(None),
+            IfMatch::Tags(revisions, _) if revisions.len() == 1 => return Ok(Some(revisions[0])),
+            IfMatch::Tags(revisions, sent) => (revisions, sent),
+        };
+        let current = current.await?;
+        if revisions.contains(&current) {
+            return Ok(Some(current));
+        }
+        let expected = if revisions.is_empty() {
+            format!("{sent} (no strong entity tag: a weak one never matches a write)")
+        } else {
+            format!("any of {sent}")
+        };
+        Err(Error::Stale {
+            what: what(),
+            expected,
+            current,
+        })
     }
 }
 
@@ -153,6 +205,12 @@ fn with_etag(mut response: Response, revision: i64) -> Response {
         response.headers_mut().insert(header::ETAG, value);
     }
     response
+}
+
+/// The revision a conditional write on norm `id` expects.
+async fn norm_revision(app: &AppState, id: i64, if_match: IfMatch) -> Result<Option<i64>, Error> {
+    let current = async { Ok(app.core.get_norm(id).await?.revision) };
+    if_match.expected(|| format!("norm {id}"), current).await
 }
 
 /// A norm id from the path; anything but an integer names no norm.
@@ -210,8 +268,9 @@ async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<N
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
         (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "6 is out of range 1..5", "field": "/severity"})),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
@@ -261,20 +320,22 @@ async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>
         (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
         (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
 async fn replace_norm(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     Path(id): Path<String>,
     JsonBody(body): JsonBody<NormBody>,
 ) -> Result<Response, Error> {
     let id = norm_id(&id)?;
+    let expected = norm_revision(&app, id, if_match).await?;
     let norm = app
         .core
         .replace_norm(id, body.for_replace(id)?, expected, &actor)
@@ -300,10 +361,12 @@ async fn replace_norm(
 async fn delete_norm(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     Path(id): Path<String>,
 ) -> Result<StatusCode, Error> {
-    app.core.delete_norm(norm_id(&id)?, expected, &actor).await?;
+    let id = norm_id(&id)?;
+    let expected = norm_revision(&app, id, if_match).await?;
+    app.core.delete_norm(id, expected, &actor).await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -338,18 +401,21 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
         (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 412, description = "The set has changed since the version in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]
 async fn import_norms(
     State(app): State<AppState>,
     Writer(actor): Writer,
-    IfMatch(expected): IfMatch,
+    if_match: IfMatch,
     JsonBody(body): JsonBody<NormSetBody>,
 ) -> Result<Response, Error> {
+    let current = async { Ok(app.core.export_norms().await?.0) };
+    let expected = if_match.expected(|| "the norm set".to_owned(), current).await?;
     let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
     let (version, norms) = app.core.import_norms(inputs, expected, &actor).await?;
     let set = NormSetDto {
@@ -432,8 +498,9 @@ async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Resu
     responses(
         (status = 200, description = "The decision, its words and every reading considered", body = DecisionDto, example = json!(doc::vase_response())),
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "no object `object9` in the scene", "field": "/directive/arguments/0/id"})),
         (status = 503, description = "The norms cannot be read: no decision is made (fail closed)", body = Problem, content_type = PROBLEM_JSON),
@@ -473,8 +540,9 @@ async fn clarify(
         (status = 200, description = "Each step's verdict, and whether all may be done", body = CheckDto,
          example = json!({"permitted": true, "steps": [{"step": "get(object4)", "permissible": true, "feasible": true, "reasons": [], "plan": ["get(object4)"]}], "utterance": "Okay.", "norm_version": 3})),
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
     ))]
@@ -543,7 +611,8 @@ async fn get_action(
         (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
         (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
         (status = 403, description = "The token sent may not change the library", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON", body = Problem, content_type = PROBLEM_JSON),
+        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
+        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
     ))]

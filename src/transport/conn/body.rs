@@ -1,0 +1,128 @@
+//! Request bodies with a deadline: a body must arrive whole within `--body-timeout-ms` of the
+//! handler starting to read it, so a client that stalls half-way cannot hold a request (and its
+//! connection) open.
+//!
+//! Owns: the deadline and the error a stalled read ends in. Must not: allocate per request (the
+//! timer lives in the body, which axum boxes once anyway) or limit sizes (that is the REST
+//! layer's, and gRPC's own).
+
+use std::fmt;
+use std::pin::Pin;
+use std::task::{Context, Poll, ready};
+use std::time::Duration;
+
+use bytes::Bytes;
+use http_body::{Body, Frame, SizeHint};
+use tokio::time::Sleep;
+
+/// What a read of a body that missed its deadline ends in; `rest` answers it with 408.
+#[derive(Debug)]
+pub struct BodyTimeout(pub Duration);
+
+impl fmt::Display for BodyTimeout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "the request body did not arrive within {} ms", self.0.as_millis())
+    }
+}
+
+impl std::error::Error for BodyTimeout {}
+
+/// Whether `error`, or any error it wraps, is a `BodyTimeout`.
+pub fn timed_out<'a>(error: &'a (dyn std::error::Error + 'static)) -> Option<&'a BodyTimeout> {
+    let mut current = Some(error);
+    while let Some(error) = current {
+        if let Some(timeout) = error.downcast_ref::<BodyTimeout>() {
+            return Some(timeout);
+        }
+        current = error.source();
+    }
+    None
+}
+
+pin_project_lite::pin_project! {
+    /// `inner` with a deadline, set when the body is first read.
+    pub struct TimedBody<B> {
+        #[pin]
+        inner: B,
+        #[pin]
+        deadline: Option<Sleep>,
+        limit: Duration,
+    }
+}
+
+impl<B> TimedBody<B> {
+    pub fn new(inner: B, limit: Duration) -> TimedBody<B> {
+        TimedBody {
+            inner,
+            deadline: None,
+            limit,
+        }
+    }
+}
+
+impl<B> Body for TimedBody<B>
+where
+    B: Body<Data = Bytes>,
+    B::Error: Into<Box<dyn std::error::Error + Send + Sync>>,
+{
+    type Data = Bytes;
+    type Error = Box<dyn std::error::Error + Send + Sync>;
+
+    fn poll_frame(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Result<Frame<Bytes>, Self::Error>>> {
+        let mut this = self.project();
+        if this.deadline.is_none() {
+            this.deadline.set(Some(tokio::time::sleep(*this.limit)));
+        }
+        if let Poll::Ready(frame) = this.inner.poll_frame(cx) {
+            return Poll::Ready(frame.map(|f| f.map_err(Into::into)));
+        }
+        if let Some(deadline) = this.deadline.as_pin_mut() {
+            ready!(deadline.poll(cx));
+            return Poll::Ready(Some(Err(Box::new(BodyTimeout(*this.limit)))));
+        }
+        Poll::Pending
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.inner.is_end_stream()
+    }
+
+    fn size_hint(&self) -> SizeHint {
+        self.inner.size_hint()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use http_body_util::BodyExt;
+
+    /// A body that never sends anything.
+    struct Stalled;
+
+    impl Body for Stalled {
+        type Data = Bytes;
+        type Error = std::convert::Infallible;
+
+        fn poll_frame(self: Pin<&mut Self>, _: &mut Context<'_>) -> Poll<Option<Result<Frame<Bytes>, Self::Error>>> {
+            Poll::Pending
+        }
+    }
+
+    #[tokio::test]
+    async fn a_stalled_body_fails_at_its_deadline_and_a_whole_one_does_not() {
+        let error = TimedBody::new(Stalled, Duration::from_millis(30))
+            .collect()
+            .await
+            .expect_err("the read fails");
+        let timeout = timed_out(&*error).expect("a BodyTimeout");
+        assert_eq!(timeout.0, Duration::from_millis(30));
+        assert_eq!(error.to_string(), "the request body did not arrive within 30 ms");
+
+        let whole = TimedBody::new(
+            http_body_util::Full::new(Bytes::from_static(b"{}")),
+            Duration::from_secs(1),
+        );
+        assert_eq!(whole.collect().await.unwrap().to_bytes(), Bytes::from_static(b"{}"));
+    }
+}
