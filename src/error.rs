@@ -56,6 +56,17 @@ pub enum Error {
     StoreUnavailable(String),
     #[error("internal error: {0}")]
     Internal(String),
+    /// Not HTTP as RFC 9112 writes it (a bad request line, header, length or coding; TLS bytes
+    /// on the cleartext port): answered by the connection layer, no handler sees it.
+    #[error("{detail}")]
+    BadRequest { detail: String },
+    #[error("{detail}")]
+    UriTooLong { detail: String },
+    #[error("{detail}")]
+    HeadersTooLarge { detail: String },
+    /// A head or a body did not arrive within its timeout.
+    #[error("{detail}")]
+    RequestTimeout { detail: String },
 }
 
 impl Error {
@@ -139,6 +150,30 @@ impl Error {
                 Code::Internal,
                 "internal",
                 "Internal error",
+            ),
+            Error::BadRequest { .. } => (
+                StatusCode::BAD_REQUEST,
+                Code::InvalidArgument,
+                "bad-request",
+                "Bad request",
+            ),
+            Error::UriTooLong { .. } => (
+                StatusCode::URI_TOO_LONG,
+                Code::InvalidArgument,
+                "uri-too-long",
+                "URI too long",
+            ),
+            Error::HeadersTooLarge { .. } => (
+                StatusCode::REQUEST_HEADER_FIELDS_TOO_LARGE,
+                Code::ResourceExhausted,
+                "headers-too-large",
+                "Request header fields too large",
+            ),
+            Error::RequestTimeout { .. } => (
+                StatusCode::REQUEST_TIMEOUT,
+                Code::DeadlineExceeded,
+                "request-timeout",
+                "Request timeout",
             ),
         };
         Codes {

@@ -1,15 +1,14 @@
 //! The problems the connection layer answers itself, before (or instead of) a handler: a head
 //! hyper cannot parse, one that is too long, and a head or body that does not arrive in time.
 //!
-//! Owns: their status, type, title and body, in the shape of `error::Problem`, for a raw write
-//! on the socket and for a handler's answer alike. Must not: grow into a second error table:
-//! these are only the failures no handler ever sees (see the report for the variants `Error`
-//! could take over).
+//! Owns: writing them, as a raw response on the socket or as a handler's answer. Their status,
+//! type and title come from the one error table (`error::Error`). Must not: map a failure to a
+//! status itself.
 
 use axum::http::{HeaderValue, StatusCode, Version, header};
 use axum::response::{IntoResponse, Response};
 
-use crate::error::{PROBLEM_JSON, Problem};
+use crate::error::{Error, PROBLEM_JSON, Problem};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Protocol {
@@ -23,33 +22,22 @@ pub enum Protocol {
 }
 
 impl Protocol {
-    pub fn status(self) -> StatusCode {
+    /// The failure in the one error table (`error::Error::codes`).
+    fn error(self, detail: String) -> Error {
         match self {
-            Protocol::BadRequest => StatusCode::BAD_REQUEST,
-            Protocol::UriTooLong => StatusCode::URI_TOO_LONG,
-            Protocol::HeadersTooLarge => StatusCode::REQUEST_HEADER_FIELDS_TOO_LARGE,
-            Protocol::RequestTimeout => StatusCode::REQUEST_TIMEOUT,
+            Protocol::BadRequest => Error::BadRequest { detail },
+            Protocol::UriTooLong => Error::UriTooLong { detail },
+            Protocol::HeadersTooLarge => Error::HeadersTooLarge { detail },
+            Protocol::RequestTimeout => Error::RequestTimeout { detail },
         }
     }
 
-    fn slug_and_title(self) -> (&'static str, &'static str) {
-        match self {
-            Protocol::BadRequest => ("bad-request", "Bad request"),
-            Protocol::UriTooLong => ("uri-too-long", "URI too long"),
-            Protocol::HeadersTooLarge => ("headers-too-large", "Request header fields too large"),
-            Protocol::RequestTimeout => ("request-timeout", "Request timeout"),
-        }
+    pub fn status(self) -> StatusCode {
+        self.error(String::new()).codes().http
     }
 
     pub fn problem(self, detail: impl Into<String>) -> Problem {
-        let (slug, title) = self.slug_and_title();
-        Problem {
-            kind: format!("/problems/{slug}"),
-            title: title.to_owned(),
-            status: self.status().as_u16(),
-            detail: detail.into(),
-            field: None,
-        }
+        self.error(detail.into()).problem()
     }
 
     /// A handler's answer. On HTTP/1 the connection closes after it: whatever the client sent
