@@ -55,6 +55,26 @@ bodies.extend(extra)
 for i, body in enumerate(bodies):
     write("clarify_request", f"request-{i:02}.json", json.dumps(body, separators=(",", ":")))
 
+# Inputs that store verbs before clarifying (see fuzz_targets/clarify_request.rs): a chain of
+# verbs whose every method fails, up to one the expansion bound refuses, and a distinct verb.
+def over(callee):
+    return {"parameters": ["X"], "methods": [{"steps": [f"{callee}(X)"] * 4}] * 8}
+
+
+with_verbs = [
+    {"verbs": {"a0": {"parameters": ["X"], "methods": [{"preconditions": ["never(X)"]}]},
+               "a1": over("a0"), "a2": over("a1"), "a3": over("a2"),
+               "pair": {"parameters": ["X", "Y"], "distinct": True, "joiner": "with",
+                        "methods": [{"steps": ["a2(X)", "a2(Y)"]}, {"steps": ["get(X)", "itself"], "reach": ["X", "Y"]}]}},
+     "request": {"directive": {"action": "pair", "arguments": [{"type": "vase"}, {"type": "notebook"}]}, "scene": lab,
+                 "options": {"deadline_ms": 50}}},
+    {"verbs": {"stack": {"parameters": ["X", "Y"], "distinct": True, "joiner": "on",
+                         "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "adds": ["on(X,Y)"]}]}},
+     "request": {"directive": {"action": "stack", "arguments": [{"type": "vase"}, {"type": "vase"}]}, "scene": lab}},
+]
+for i, body in enumerate(with_verbs):
+    write("clarify_request", f"verbs-{i:02}.json", json.dumps(body, separators=(",", ":")))
+
 terms = ["did(self,get(object3))", "want(human, did(self, get(X)))", "holding(self,?x)", "on(X:object, table1:surface)",
          "f(g(h(a,B),-1.5),_c)", "pointTo(object4)"]
 for i, term in enumerate(terms):

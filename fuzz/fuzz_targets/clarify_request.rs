@@ -1,5 +1,8 @@
 //! Fuzzes `POST /v1/clarify` below HTTP: body bytes through the REST decoding, the boundary
-//! validation, the engine and the response body, as the handler chains them.
+//! validation, the engine and the response body, as the handler chains them. An input may also
+//! define verbs first, `{"verbs": {"name": VERB, ...}, "request": BODY}`: each is stored as
+//! `PUT /v1/actions/{name}` would store it (refused when invalid, looping or over the expansion
+//! bound), so that expansion is fuzzed too; any other input is the body itself.
 //!
 //! Owns: the promise that no body makes any of those panic or run past its deadline. Errors
 //! are expected answers. Must not: open a store or a socket (the norms are fixed here).
@@ -10,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use libfuzzer_sys::fuzz_target;
 use scruple::api::{ClarifyBody, ClarifyInput, DecisionDto, parse_json};
-use scruple::engine::action::Library;
+use scruple::engine::action::{ActionInput, Library};
 use scruple::engine::clarify;
 use scruple::engine::norms::{CompiledNorms, Norm, NormInput};
 
@@ -66,8 +69,47 @@ static NORMS: LazyLock<CompiledNorms> = LazyLock::new(|| {
 
 static LIBRARY: LazyLock<Library> = LazyLock::new(Library::default_library);
 
+/// The default library with each verb of `verbs` added as the store would take it: a verb that
+/// is invalid, loops, or would make some verb expand past the bound is refused, the rest kept.
+fn library_with(verbs: &serde_json::Map<String, serde_json::Value>) -> Library {
+    let mut written: Vec<(String, ActionInput)> = LIBRARY
+        .verbs()
+        .into_iter()
+        .map(|d| (d.name.to_string(), d.to_input()))
+        .collect();
+    for (name, verb) in verbs {
+        let Ok(input) = serde_json::from_value::<ActionInput>(verb.clone()) else {
+            continue;
+        };
+        if input.validate(name).is_err() {
+            continue;
+        }
+        let mut candidate = written.clone();
+        candidate.retain(|(n, _)| n != name);
+        candidate.push((name.clone(), input));
+        if Library::from_written(1, &candidate)
+            .and_then(|l| l.check_expansion(name))
+            .is_ok()
+        {
+            written = candidate;
+        }
+    }
+    Library::from_written(1, &written).expect("every verb kept was accepted with the others")
+}
+
 fuzz_target!(|bytes: &[u8]| {
-    let Ok(body) = parse_json::<ClarifyBody>(bytes) else {
+    let defined = serde_json::from_slice::<serde_json::Value>(bytes)
+        .ok()
+        .and_then(|v| match (v.get("verbs"), v.get("request")) {
+            (Some(serde_json::Value::Object(verbs)), Some(request)) => Some((verbs.clone(), request.clone())),
+            _ => None,
+        });
+    let (library, body) = match &defined {
+        Some((verbs, request)) => (Some(library_with(verbs)), serde_json::to_vec(request).unwrap_or_default()),
+        None => (None, bytes.to_vec()),
+    };
+    let library = library.as_ref().unwrap_or(&LIBRARY);
+    let Ok(body) = parse_json::<ClarifyBody>(&body) else {
         return;
     };
     let Ok(mut input) = ClarifyInput::try_from(body) else {
@@ -77,10 +119,10 @@ fuzz_target!(|bytes: &[u8]| {
     let deadline = started + input.deadline.min(DEADLINE_CAP);
     let expired = || Instant::now() >= deadline;
     let text = input.text.take();
-    let Ok(decision) = clarify(&input.request, &input.scene, &NORMS, &LIBRARY, &expired) else {
+    let Ok(decision) = clarify(&input.request, &input.scene, &NORMS, library, &expired) else {
         return;
     };
-    // The deadline is checked between readings, so one reading may run past it, but not by much.
+    // The deadline is asked before every step a plan expands: a decision ends soon after it.
     let took = started.elapsed();
     assert!(
         took < DEADLINE_CAP * 3,
