@@ -636,11 +636,15 @@ async fn well_formed_json_of_the_wrong_shape_is_a_422_naming_the_member() {
 /// INTERNAL, an oversized message OUT_OF_RANGE.
 #[tokio::test]
 async fn grpc_requests_that_cannot_be_decoded_are_the_callers_fault() {
-    let app = crate::helpers::spawn_with(Options {
-        max_body_bytes: 1024,
-        ..Options::default()
-    })
-    .await;
+    let dir = tempfile::tempdir().unwrap();
+    let served = crate::helpers::serve_binary(
+        &format!("sqlite://{}", dir.path().join("grpc.db").display()),
+        &["--max-body-bytes", "1024"],
+        &[],
+        std::process::Stdio::null(),
+    );
+    let url = format!("http://{}/scruple.v1.Clarifier/Clarify", served.addr);
+    crate::support::install_ring();
     let h2 = reqwest::Client::builder().http2_prior_knowledge().build().unwrap();
     let frame = |flag: u8, len: u32, body: &[u8]| {
         let mut bytes = vec![flag];
@@ -656,7 +660,7 @@ async fn grpc_requests_that_cannot_be_decoded_are_the_callers_fault() {
     ];
     for (body, code) in cases {
         let response = h2
-            .post(app.url("/scruple.v1.Clarifier/Clarify"))
+            .post(&url)
             .header("content-type", "application/grpc")
             .header("te", "trailers")
             .body(body.clone())
@@ -669,6 +673,8 @@ async fn grpc_requests_that_cannot_be_decoded_are_the_callers_fault() {
             .map(|v| v.to_str().unwrap().to_owned());
         assert_eq!(status.as_deref(), Some(code), "{body:?}: {:?}", response.headers());
     }
+    let status = tokio::task::spawn_blocking(move || served.terminate()).await.unwrap();
+    assert_eq!(status.code(), Some(0));
 }
 
 /// Finding 14: with the norms table dropped, `/healthz` said 200 while clarify and writes said

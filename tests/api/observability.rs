@@ -165,23 +165,31 @@ async fn log_utterances_puts_the_words_and_the_speaker_in_the_decision_line() {
 /// nine is `other`, and a gRPC content type on a REST path never makes the raw path a label.
 #[tokio::test]
 async fn made_up_methods_and_paths_do_not_grow_the_metrics() {
-    let app = spawn_app().await;
+    // The hostile pass found it on the binary: this runs the binary.
+    let dir = tempfile::tempdir().unwrap();
+    let served = serve_binary(
+        &format!("sqlite://{}", dir.path().join("metrics.db").display()),
+        &[],
+        &[],
+        std::process::Stdio::null(),
+    );
+    let client = crate::helpers::http_client();
+    let url = |path: &str| format!("http://{}{path}", served.addr);
     for i in 0..50 {
         let method = reqwest::Method::from_bytes(format!("M{i}XXXX").as_bytes()).unwrap();
-        let response = app.client.request(method, app.url("/")).send().await.unwrap();
+        let response = client.request(method, url("/")).send().await.unwrap();
         assert!(response.status().is_client_error(), "{}", response.status());
     }
     for i in 0..20 {
-        let _ = app
-            .client
-            .post(app.url(&format!("/v1/norms/{}", 90_000 + i)))
+        let _ = client
+            .post(url(&format!("/v1/norms/{}", 90_000 + i)))
             .header("content-type", "application/grpc")
             .body("x")
             .send()
             .await
             .unwrap();
     }
-    let text = app.get("/metrics").await.text().await.unwrap();
+    let text = client.get(url("/metrics")).send().await.unwrap().text().await.unwrap();
     assert!(!text.contains("XXXX"), "a made-up method became a label:\n{text}");
     assert!(!text.contains("/v1/norms/900"), "a raw path became a label:\n{text}");
     let others: Vec<&str> = text
@@ -206,4 +214,6 @@ async fn made_up_methods_and_paths_do_not_grow_the_metrics() {
         statuses.iter().all(|s| s.parse::<u16>().is_ok() || *s == "other"),
         "{statuses:?}"
     );
+    let status = tokio::task::spawn_blocking(move || served.terminate()).await.unwrap();
+    assert_eq!(status.code(), Some(0));
 }
