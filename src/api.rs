@@ -593,6 +593,24 @@ fn ranged(field: &str, value: Option<u64>, range: std::ops::RangeInclusive<u64>,
     }
 }
 
+/// `options.deadline_ms` of a clarify or a check, within the operator's bound.
+fn deadline_of(value: Option<u64>, limits: &RequestLimits) -> Result<std::time::Duration, Error> {
+    let ms = ranged(
+        "/options/deadline_ms",
+        value,
+        1..=limits.max_deadline_ms,
+        limits.default_deadline_ms,
+    )?;
+    Ok(std::time::Duration::from_millis(ms))
+}
+
+fn style_of(style: Option<StyleBody>) -> Style {
+    match style {
+        None | Some(StyleBody::Diarc) => Style::Diarc,
+        Some(StyleBody::Natural) => Style::Natural,
+    }
+}
+
 fn roles_of(roles: Option<Vec<String>>) -> Result<Vec<String>, Error> {
     validate_roles("/speaker_roles", roles).map_err(|e| Error::invalid(e.field, e.message))
 }
@@ -988,12 +1006,7 @@ impl ClarifyInput {
                 "must be a ratio with 0 ≤ ratio < 1",
             ));
         }
-        let deadline_ms = ranged(
-            "/options/deadline_ms",
-            options.deadline_ms,
-            1..=limits.max_deadline_ms,
-            limits.default_deadline_ms,
-        )?;
+        let deadline = deadline_of(options.deadline_ms, limits)?;
         let engine_options = Options {
             strategy: match options.strategy {
                 None | Some(StrategyBody::Moral) => Strategy::Moral,
@@ -1003,10 +1016,7 @@ impl ClarifyInput {
                 None | Some(SinglePermissibleBody::Assume) => SinglePermissible::Assume,
                 Some(SinglePermissibleBody::Confirm) => SinglePermissible::Confirm,
             },
-            style: match options.style {
-                None | Some(StyleBody::Diarc) => Style::Diarc,
-                Some(StyleBody::Natural) => Style::Natural,
-            },
+            style: style_of(options.style),
             max_spoken: ranged(
                 "/options/max_spoken",
                 options.max_spoken,
@@ -1032,7 +1042,7 @@ impl ClarifyInput {
             },
             scene,
             text,
-            deadline: std::time::Duration::from_millis(deadline_ms),
+            deadline,
         })
     }
 }
@@ -1224,23 +1234,15 @@ impl CheckInput {
             })
             .collect::<Result<_, _>>()?;
         let options = body.options.unwrap_or_default();
-        let style = match options.style {
-            None | Some(StyleBody::Diarc) => Style::Diarc,
-            Some(StyleBody::Natural) => Style::Natural,
-        };
-        let deadline_ms = ranged(
-            "/options/deadline_ms",
-            options.deadline_ms,
-            1..=limits.max_deadline_ms,
-            limits.default_deadline_ms,
-        )?;
+        let style = style_of(options.style);
+        let deadline = deadline_of(options.deadline_ms, limits)?;
         Ok(CheckInput {
             scene,
             steps,
             context,
             speaker_roles,
             style,
-            deadline: std::time::Duration::from_millis(deadline_ms),
+            deadline,
         })
     }
 }
