@@ -9,6 +9,7 @@ mod connections;
 mod crash;
 mod errors;
 mod fail_closed;
+mod golden;
 mod grpc;
 mod hardening;
 mod helpers;
