@@ -1,14 +1,13 @@
 //! The one error type of the service and the one table that turns it into what a client sees.
 //!
-//! Owns: every failure a request can end in, its status and its problem+json body.
-//! Must not: grow a second mapping anywhere else; transports read `Error::codes`.
+//! Owns: every failure a request can end in and the one table of what each shows (HTTP status,
+//! gRPC code, problem type, public detail, field, retry, log level).
+//! Must not: grow a second mapping anywhere else (transports read `Error::row`), or import the
+//! store or a transport.
 
-use axum::http::{HeaderValue, StatusCode, header};
-use axum::response::{IntoResponse, Response};
 use serde::Serialize;
 
 use crate::engine::clarify::EngineError;
-use crate::storage::StoreError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -69,6 +68,51 @@ pub enum Error {
     RequestTimeout { detail: String },
 }
 
+/// Everything a client is shown of a failure, and how it is logged: one row per variant of
+/// [`Error`], all columns decided in one place ([`Error::row`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Row {
+    /// The HTTP status.
+    pub http: u16,
+    /// The gRPC status code, by its number in the gRPC specification (see [`grpc`]).
+    pub grpc: i32,
+    /// The problem type's last path segment: `/problems/{slug}`.
+    pub slug: &'static str,
+    pub title: &'static str,
+    /// What the client is told; internal details stay in the log.
+    pub detail: String,
+    /// A JSON Pointer into the request at the member at fault.
+    pub field: Option<String>,
+    /// Seconds to wait before retrying, for failures that pass.
+    pub retry_after_s: Option<u64>,
+    pub log: Log,
+}
+
+/// How a failure is logged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Log {
+    /// The service's own fault or the store's: at error, with the whole message.
+    Error,
+    /// The caller's: at debug, with its type and field only (the detail may echo the caller's
+    /// input: a speaker id, a word).
+    Debug,
+}
+
+/// gRPC status codes as the gRPC specification numbers them; transports turn them into their
+/// own type.
+pub mod grpc {
+    pub const INVALID_ARGUMENT: i32 = 3;
+    pub const DEADLINE_EXCEEDED: i32 = 4;
+    pub const NOT_FOUND: i32 = 5;
+    pub const PERMISSION_DENIED: i32 = 7;
+    pub const RESOURCE_EXHAUSTED: i32 = 8;
+    pub const FAILED_PRECONDITION: i32 = 9;
+    pub const UNIMPLEMENTED: i32 = 12;
+    pub const INTERNAL: i32 = 13;
+    pub const UNAVAILABLE: i32 = 14;
+    pub const UNAUTHENTICATED: i32 = 16;
+}
+
 impl Error {
     pub fn invalid(field: impl Into<String>, detail: impl Into<String>) -> Error {
         Error::Invalid {
@@ -77,146 +121,50 @@ impl Error {
         }
     }
 
-    /// The single place where a failure becomes an HTTP status, a gRPC code and a problem type
-    /// (slug, title). Both transports read it; there is no wildcard arm.
-    pub fn codes(&self) -> Codes {
-        use tonic::Code;
-        let (http, grpc, slug, title) = match self {
-            Error::MalformedBody { .. } => (
-                StatusCode::BAD_REQUEST,
-                Code::InvalidArgument,
-                "malformed-body",
-                "Malformed request body",
-            ),
-            Error::Invalid { .. } => (
-                StatusCode::UNPROCESSABLE_ENTITY,
-                Code::InvalidArgument,
-                "invalid-field",
-                "Invalid field",
-            ),
-            Error::UnsupportedMediaType { .. } => (
-                StatusCode::UNSUPPORTED_MEDIA_TYPE,
-                Code::InvalidArgument,
-                "unsupported-media-type",
-                "Unsupported media type",
-            ),
-            Error::NotFound { .. } => (StatusCode::NOT_FOUND, Code::NotFound, "not-found", "Not found"),
-            Error::NoRoute => (StatusCode::NOT_FOUND, Code::Unimplemented, "no-route", "No such route"),
-            Error::MethodNotAllowed => (
-                StatusCode::METHOD_NOT_ALLOWED,
-                Code::Unimplemented,
-                "method-not-allowed",
-                "Method not allowed",
-            ),
-            Error::PayloadTooLarge { .. } => (
-                StatusCode::PAYLOAD_TOO_LARGE,
-                Code::ResourceExhausted,
-                "payload-too-large",
-                "Payload too large",
-            ),
-            Error::Unauthenticated => (
-                StatusCode::UNAUTHORIZED,
-                Code::Unauthenticated,
-                "unauthenticated",
-                "Unauthenticated",
-            ),
-            Error::Forbidden(_) => (StatusCode::FORBIDDEN, Code::PermissionDenied, "forbidden", "Forbidden"),
-            Error::Stale { .. } => (
-                StatusCode::PRECONDITION_FAILED,
-                Code::FailedPrecondition,
-                "stale-revision",
-                "Stale revision",
-            ),
-            Error::Overloaded { .. } => (
-                StatusCode::SERVICE_UNAVAILABLE,
-                Code::Unavailable,
-                "overloaded",
-                "Overloaded",
-            ),
-            Error::NormsUnavailable(_) => (
-                StatusCode::SERVICE_UNAVAILABLE,
-                Code::Unavailable,
-                "norms-unavailable",
-                "Norms unavailable",
-            ),
-            Error::StoreUnavailable(_) => (
-                StatusCode::SERVICE_UNAVAILABLE,
-                Code::Unavailable,
-                "store-unavailable",
-                "Norm store unavailable",
-            ),
-            Error::Internal(_) => (
-                StatusCode::INTERNAL_SERVER_ERROR,
-                Code::Internal,
-                "internal",
-                "Internal error",
-            ),
-            Error::BadRequest { .. } => (
-                StatusCode::BAD_REQUEST,
-                Code::InvalidArgument,
-                "bad-request",
-                "Bad request",
-            ),
-            Error::UriTooLong { .. } => (
-                StatusCode::URI_TOO_LONG,
-                Code::InvalidArgument,
-                "uri-too-long",
-                "URI too long",
-            ),
-            Error::HeadersTooLarge { .. } => (
-                StatusCode::REQUEST_HEADER_FIELDS_TOO_LARGE,
-                Code::ResourceExhausted,
-                "headers-too-large",
-                "Request header fields too large",
-            ),
-            Error::RequestTimeout { .. } => (
-                StatusCode::REQUEST_TIMEOUT,
-                Code::DeadlineExceeded,
-                "request-timeout",
-                "Request timeout",
-            ),
+    /// The single place where a failure becomes what a client sees and what the log says. Both
+    /// transports and the offline CLI read it; it has no catch-all arm, so a new variant does
+    /// not compile until every column is decided for it.
+    pub fn row(&self) -> Row {
+        use grpc::*;
+        let shown = || self.to_string();
+        #[rustfmt::skip]
+        let (http, grpc, slug, title, detail, field, retry_after_s, log) = match self {
+            Error::MalformedBody { .. } => (400, INVALID_ARGUMENT, "malformed-body", "Malformed request body", shown(), None, None, Log::Debug),
+            Error::Invalid { field, detail } => (422, INVALID_ARGUMENT, "invalid-field", "Invalid field", detail.clone(), Some(field.clone()), None, Log::Debug),
+            Error::UnsupportedMediaType { .. } => (415, INVALID_ARGUMENT, "unsupported-media-type", "Unsupported media type", shown(), None, None, Log::Debug),
+            Error::NotFound { .. } => (404, NOT_FOUND, "not-found", "Not found", shown(), None, None, Log::Debug),
+            Error::NoRoute => (404, UNIMPLEMENTED, "no-route", "No such route", shown(), None, None, Log::Debug),
+            Error::MethodNotAllowed => (405, UNIMPLEMENTED, "method-not-allowed", "Method not allowed", shown(), None, None, Log::Debug),
+            Error::PayloadTooLarge { .. } => (413, RESOURCE_EXHAUSTED, "payload-too-large", "Payload too large", shown(), None, None, Log::Debug),
+            Error::Unauthenticated => (401, UNAUTHENTICATED, "unauthenticated", "Unauthenticated", shown(), None, None, Log::Debug),
+            Error::Forbidden(_) => (403, PERMISSION_DENIED, "forbidden", "Forbidden", shown(), None, None, Log::Debug),
+            Error::Stale { .. } => (412, FAILED_PRECONDITION, "stale-revision", "Stale revision", shown(), None, None, Log::Debug),
+            Error::Overloaded { retry_after_s } => (503, UNAVAILABLE, "overloaded", "Overloaded", shown(), None, Some(*retry_after_s), Log::Debug),
+            Error::NormsUnavailable(_) => (503, UNAVAILABLE, "norms-unavailable", "Norms unavailable", shown(), None, Some(1), Log::Error),
+            Error::StoreUnavailable(_) => (503, UNAVAILABLE, "store-unavailable", "Norm store unavailable", shown(), None, Some(1), Log::Error),
+            Error::Internal(_) => (500, INTERNAL, "internal", "Internal error", "the service failed; the error is logged".to_owned(), None, None, Log::Error),
+            Error::BadRequest { .. } => (400, INVALID_ARGUMENT, "bad-request", "Bad request", shown(), None, None, Log::Debug),
+            Error::UriTooLong { .. } => (414, INVALID_ARGUMENT, "uri-too-long", "URI too long", shown(), None, None, Log::Debug),
+            Error::HeadersTooLarge { .. } => (431, RESOURCE_EXHAUSTED, "headers-too-large", "Request header fields too large", shown(), None, None, Log::Debug),
+            Error::RequestTimeout { .. } => (408, DEADLINE_EXCEEDED, "request-timeout", "Request timeout", shown(), None, None, Log::Debug),
         };
-        Codes {
+        Row {
             http,
             grpc,
             slug,
             title,
+            detail,
+            field,
+            retry_after_s,
+            log,
         }
     }
 
-    /// What the client is told: internal details stay in the log.
-    fn public_detail(&self) -> String {
-        match self {
-            Error::Internal(_) => "the service failed; the error is logged".to_owned(),
-            Error::Invalid { detail, .. } => detail.clone(),
-            other => other.to_string(),
-        }
-    }
-
-    fn log(&self) {
-        match self {
-            Error::Internal(_) | Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => {
-                tracing::error!(error = %self, "request failed")
-            }
-            // The detail may echo the caller's input (a speaker id, a word): the type and the
-            // field say enough to find the request by its id.
-            _ => tracing::debug!(problem = self.codes().slug, field = self.field(), "request rejected"),
-        }
-    }
-
-    /// Seconds a client should wait before retrying, for failures that pass.
-    pub fn retry_after_s(&self) -> Option<u64> {
-        match self {
-            Error::NormsUnavailable(_) | Error::StoreUnavailable(_) => Some(1),
-            Error::Overloaded { retry_after_s } => Some(*retry_after_s),
-            _ => None,
-        }
-    }
-
-    fn field(&self) -> Option<&str> {
-        match self {
-            Error::Invalid { field, .. } => Some(field),
-            _ => None,
+    /// Writes the failure to the log, at the level its row says.
+    pub fn log(&self, row: &Row) {
+        match row.log {
+            Log::Error => tracing::error!(error = %self, "request failed"),
+            Log::Debug => tracing::debug!(problem = row.slug, field = row.field.as_deref(), "request rejected"),
         }
     }
 }
@@ -228,26 +176,6 @@ impl From<EngineError> for Error {
             EngineError::NothingAsked { .. } => Error::invalid("/answer", e.to_string()),
         }
     }
-}
-
-impl From<StoreError> for Error {
-    fn from(e: StoreError) -> Self {
-        if e.busy {
-            Error::Overloaded { retry_after_s: 1 }
-        } else {
-            Error::StoreUnavailable(e.detail)
-        }
-    }
-}
-
-/// How one failure shows on each transport.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Codes {
-    pub http: StatusCode,
-    pub grpc: tonic::Code,
-    /// The problem type's last path segment: `/problems/{slug}`.
-    pub slug: &'static str,
-    pub title: &'static str,
 }
 
 /// RFC 9457 problem details: every 4xx and 5xx answer of the REST API.
@@ -271,59 +199,13 @@ pub const PROBLEM_JSON: &str = "application/problem+json";
 impl Error {
     /// The problem body a client is shown: the REST answer's, and the offline CLI's report.
     pub fn problem(&self) -> Problem {
-        let Codes { http, slug, title, .. } = self.codes();
+        let row = self.row();
         Problem {
-            kind: format!("/problems/{slug}"),
-            title: title.to_owned(),
-            status: http.as_u16(),
-            detail: self.public_detail(),
-            field: self.field().map(str::to_owned),
+            kind: format!("/problems/{}", row.slug),
+            title: row.title.to_owned(),
+            status: row.http,
+            detail: row.detail,
+            field: row.field,
         }
-    }
-}
-
-impl IntoResponse for Error {
-    fn into_response(self) -> Response {
-        let http = self.codes().http;
-        self.log();
-        let body = self.problem();
-        let mut response = (http, axum::Json(body)).into_response();
-        response
-            .headers_mut()
-            .insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
-        if matches!(self, Error::Unauthenticated) {
-            response
-                .headers_mut()
-                .insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
-        }
-        if let Some(seconds) = self.retry_after_s() {
-            response
-                .headers_mut()
-                .insert(header::RETRY_AFTER, HeaderValue::from(seconds));
-        }
-        response
-    }
-}
-
-impl From<Error> for tonic::Status {
-    /// The gRPC twin of the problem body: the code from the same table, the field (when one is
-    /// at fault) leading the message and in the `field` metadata entry.
-    fn from(error: Error) -> tonic::Status {
-        let Codes { grpc, .. } = error.codes();
-        error.log();
-        let message = match error.field() {
-            Some(field) => format!("{field}: {}", error.public_detail()),
-            None => error.public_detail(),
-        };
-        let mut status = tonic::Status::new(grpc, message);
-        if let Some(seconds) = error.retry_after_s() {
-            status.metadata_mut().insert("retry-after", seconds.into());
-        }
-        if let Some(field) = error.field()
-            && let Ok(value) = field.parse()
-        {
-            status.metadata_mut().insert("field", value);
-        }
-        status
     }
 }

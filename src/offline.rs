@@ -43,7 +43,7 @@ impl Failure {
     /// 2 when the caller's input is at fault (as for any usage error), 1 otherwise.
     pub fn exit_code(&self) -> u8 {
         match self {
-            Failure::Input { error, .. } if error.codes().http.is_client_error() => 2,
+            Failure::Input { error, .. } if (400..500).contains(&error.row().http) => 2,
             Failure::Unreadable { .. } | Failure::Usage { .. } => 2,
             Failure::Input { .. } | Failure::Run { .. } => 1,
         }

@@ -54,6 +54,18 @@ impl StoreError {
     }
 }
 
+impl From<StoreError> for crate::error::Error {
+    /// A store that cannot answer a curator: unavailable, or overloaded when only a connection
+    /// was wanting.
+    fn from(e: StoreError) -> Self {
+        if e.busy {
+            crate::error::Error::Overloaded { retry_after_s: 1 }
+        } else {
+            crate::error::Error::StoreUnavailable(e.detail)
+        }
+    }
+}
+
 impl From<sqlx::Error> for StoreError {
     fn from(e: sqlx::Error) -> Self {
         StoreError {

@@ -33,7 +33,7 @@ impl Protocol {
     }
 
     pub fn status(self) -> StatusCode {
-        self.error(String::new()).codes().http
+        StatusCode::from_u16(self.error(String::new()).row().http).unwrap_or(StatusCode::BAD_REQUEST)
     }
 
     pub fn problem(self, detail: impl Into<String>) -> Problem {

@@ -42,6 +42,29 @@ pub struct ActionsService {
     state: AppState,
 }
 
+impl From<Error> for Status {
+    /// The gRPC twin of the problem body: the code from the same row, the field (when one is
+    /// at fault) leading the message and in the `field` metadata entry.
+    fn from(error: Error) -> Status {
+        let row = error.row();
+        error.log(&row);
+        let message = match &row.field {
+            Some(field) => format!("{field}: {}", row.detail),
+            None => row.detail.clone(),
+        };
+        let mut status = Status::new(tonic::Code::from_i32(row.grpc), message);
+        if let Some(seconds) = row.retry_after_s {
+            status.metadata_mut().insert("retry-after", seconds.into());
+        }
+        if let Some(field) = row.field
+            && let Ok(value) = field.parse()
+        {
+            status.metadata_mut().insert("field", value);
+        }
+        status
+    }
+}
+
 /// Checks the token sent as metadata `authorization: Bearer TOKEN`; returns its label.
 fn authorize<T>(state: &AppState, request: &Request<T>, access: Access) -> Result<std::sync::Arc<str>, Status> {
     let authorization = request.metadata().get("authorization").and_then(|v| v.to_str().ok());

@@ -67,6 +67,26 @@ pub fn router(state: AppState) -> Router {
         .with_state(state)
 }
 
+impl IntoResponse for Error {
+    /// The problem+json answer of a failure, from its row in the one table.
+    fn into_response(self) -> Response {
+        let row = self.row();
+        self.log(&row);
+        let status = StatusCode::from_u16(row.http).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR);
+        let retry_after_s = row.retry_after_s;
+        let mut response = (status, Json(self.problem())).into_response();
+        let headers = response.headers_mut();
+        headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
+        if matches!(self, Error::Unauthenticated) {
+            headers.insert(header::WWW_AUTHENTICATE, HeaderValue::from_static("Bearer"));
+        }
+        if let Some(seconds) = retry_after_s {
+            headers.insert(header::RETRY_AFTER, HeaderValue::from(seconds));
+        }
+        response
+    }
+}
+
 /// A JSON body: not JSON → 400, wrong shape → 422 naming the field, too large (as sent or once
 /// decoded) → 413, not JSON or in an unknown coding → 415, not arrived in time → 408.
 pub struct JsonBody<T>(pub T);
