@@ -8,7 +8,6 @@
 use async_trait::async_trait;
 
 use super::{Accept, AuditEntry, NormStore, Operation, StoreError, StoredAction, Subject, Versions, Write};
-use crate::api::NormDto;
 use crate::engine::action::ActionInput;
 use crate::engine::norms::{Norm, NormKind, NormSpec, normalise_name};
 use crate::engine::term::Term;
@@ -188,8 +187,52 @@ pub(super) fn action_from_row((name, text): (String, String)) -> Result<StoredAc
 }
 
 /// A norm as the audit trail and exports show it: the REST representation.
+/// A norm as the audit trail records it: the store's own shape, not a response's, so that
+/// renaming a field of the API changes nothing stored. It is the shape entries have had since
+/// the trail began (canonical terms; optional members left out when absent), and must stay so:
+/// old entries are read back as they were written.
+#[derive(serde::Serialize)]
+struct AuditedNorm<'a> {
+    id: i64,
+    revision: i64,
+    kind: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    action: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    state: Option<String>,
+    when: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    context: Option<&'a str>,
+    severity: u8,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    note: Option<&'a str>,
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    roles: &'a [String],
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    exempt_roles: &'a [String],
+}
+
 fn norm_json(norm: &Norm) -> serde_json::Value {
-    serde_json::to_value(NormDto::from(norm)).unwrap_or(serde_json::Value::Null)
+    let spec = &norm.spec;
+    let term = Some(spec.term.to_string());
+    let (action, state) = match spec.kind {
+        NormKind::ForbiddenAction => (term, None),
+        NormKind::ForbiddenState => (None, term),
+    };
+    let record = AuditedNorm {
+        id: norm.id,
+        revision: norm.revision,
+        kind: spec.kind.as_str(),
+        action,
+        state,
+        when: spec.when.iter().map(Term::to_string).collect(),
+        context: spec.context.as_deref(),
+        severity: spec.severity,
+        note: spec.note.as_deref(),
+        roles: &spec.roles,
+        exempt_roles: &spec.exempt_roles,
+    };
+    serde_json::to_value(record).unwrap_or(serde_json::Value::Null)
 }
 
 fn norms_json(norms: &[Norm]) -> serde_json::Value {
@@ -485,5 +528,57 @@ impl<B: Backend> NormStore for SqlStore<B> {
         .await?;
         tx.commit().await?;
         Ok(true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::norms::NormInput;
+
+    /// Stored audit entries keep one shape whatever the API's norm looks like: these are the
+    /// members an entry has always had.
+    #[test]
+    fn an_audited_norm_keeps_the_trails_shape() {
+        let spec = NormInput {
+            kind: Some("forbidden_state".into()),
+            state: Some("holding(self, X:object)".into()),
+            when: Some(vec!["fragile(X)".into()]),
+            context: Some("lab".into()),
+            severity: Some(4),
+            note: Some("n".into()),
+            roles: Some(vec!["child".into()]),
+            exempt_roles: Some(vec!["owner".into()]),
+            ..NormInput::default()
+        }
+        .validate()
+        .unwrap();
+        let full = norm_json(&Norm {
+            id: 7,
+            revision: 9,
+            spec,
+        });
+        assert_eq!(
+            full,
+            serde_json::json!({"id": 7, "revision": 9, "kind": "forbidden_state", "state": "holding(self,X)",
+                "when": ["fragile(X)"], "context": "lab", "severity": 4, "note": "n",
+                "roles": ["child"], "exempt_roles": ["owner"]})
+        );
+        let spec = NormInput {
+            kind: Some("forbidden_action".into()),
+            action: Some("destroy".into()),
+            ..NormInput::default()
+        }
+        .validate()
+        .unwrap();
+        let bare = norm_json(&Norm {
+            id: 1,
+            revision: 1,
+            spec,
+        });
+        assert_eq!(
+            bare,
+            serde_json::json!({"id": 1, "revision": 1, "kind": "forbidden_action", "action": "destroy", "when": [], "severity": 3})
+        );
     }
 }
