@@ -6,12 +6,12 @@
 use std::sync::Arc;
 
 use super::action::Library;
-use super::clarify::{LimitKind, Limits};
+use super::decision::{LimitKind, Limits, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, Reason, simulate_from};
-use super::speech::{self, Style};
+use super::speech;
 use super::term::Term;
 use super::world::{Base, World};
 

@@ -13,11 +13,12 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 use super::action::Library;
+use super::decision::{Decision, DecisionKind, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::scene::{Object, Scene, spoken};
 use super::simulate::{Env, Outcome, did, simulate};
-use super::speech::{self, Plan, Style};
+use super::speech;
 use super::term::{Subst, Sym, Term};
 use super::world::{Base, World};
 
@@ -173,110 +174,6 @@ pub struct Request {
     pub context: String,
     pub options: Options,
     pub answer: Option<Answer>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DecisionKind {
-    Comply,
-    Refuse,
-    Ask,
-    Assume,
-    Confirm,
-    Explain,
-    Unresolved,
-}
-
-impl DecisionKind {
-    pub fn as_str(self) -> &'static str {
-        match self {
-            DecisionKind::Comply => "comply",
-            DecisionKind::Refuse => "refuse",
-            DecisionKind::Ask => "ask",
-            DecisionKind::Assume => "assume",
-            DecisionKind::Confirm => "confirm",
-            DecisionKind::Explain => "explain",
-            DecisionKind::Unresolved => "unresolved",
-        }
-    }
-}
-
-/// One reading of the directive, simulated.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Interpretation {
-    /// `did(self,action)`, ground.
-    pub action: Term,
-    /// The arguments in words: "the plastic vase".
-    pub description: String,
-    /// The reading in words: "get the plastic vase".
-    pub reading: String,
-    pub score: f64,
-    pub outcome: Outcome,
-    /// Each reason of `outcome` in words, in the request's style.
-    pub reason_words: Vec<String>,
-    /// The value chosen for each slot (argument or variable), in slot order.
-    pub values: Vec<Term>,
-}
-
-impl Interpretation {
-    pub fn permissible(&self) -> bool {
-        self.outcome.permissible()
-    }
-
-    pub fn feasible(&self) -> bool {
-        self.outcome.feasible()
-    }
-
-    pub fn acceptable(&self) -> bool {
-        self.permissible() && self.feasible()
-    }
-}
-
-/// Why not every reading was simulated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LimitKind {
-    /// More readings than `max_readings`: none was simulated.
-    TooManyReadings,
-    /// The request's deadline passed before every reading was simulated.
-    Deadline,
-}
-
-impl LimitKind {
-    pub fn as_str(self) -> &'static str {
-        match self {
-            LimitKind::TooManyReadings => "too_many_readings",
-            LimitKind::Deadline => "deadline",
-        }
-    }
-}
-
-/// A limit that was hit: the answer says so rather than truncating silently.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Limits {
-    pub kind: LimitKind,
-    /// How many readings the directive has.
-    pub readings: u128,
-    /// How many were simulated.
-    pub simulated: usize,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Decision {
-    pub kind: DecisionKind,
-    pub utterance: String,
-    pub speech_act: Term,
-    /// Set for `comply` and `assume` only: the reading the robot will carry out.
-    pub goal: Option<Term>,
-    /// Every reading considered, in the contract's order.
-    pub interpretations: Vec<Interpretation>,
-    /// The readings the utterance proposes, in order: those a question names (a follow-up's
-    /// `choice` counts from 0 among them), or the one assumed, confirmed or obeyed.
-    pub offered: Vec<Term>,
-    /// Set when a cap or the deadline kept readings from being simulated.
-    pub limits: Option<Limits>,
-    /// The version of the norm set the decision was made under.
-    pub norm_version: i64,
-    /// The version of the action library it was simulated with.
-    pub library_version: i64,
 }
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

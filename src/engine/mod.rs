@@ -6,6 +6,7 @@
 pub mod action;
 pub mod check;
 pub mod clarify;
+pub mod decision;
 pub mod describe;
 pub mod norms;
 pub mod scene;
@@ -18,7 +19,8 @@ pub mod world;
 mod tests;
 
 pub use action::Library;
-pub use clarify::{Decision, DecisionKind, Request, clarify};
+pub use clarify::{Request, clarify};
+pub use decision::{Decision, DecisionKind};
 pub use norms::CompiledNorms;
 pub use scene::Scene;
 pub use term::Term;

@@ -4,48 +4,11 @@
 //! Owns: every sentence and every speech-act term. Must not: decide anything; it only words the
 //! plan `clarify` made, and it never names a reading the plan does not name.
 
-use super::clarify::Interpretation;
+use super::decision::{Interpretation, Plan, Style};
 use super::describe::Describer;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
-
-/// How the robot phrases its answer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Style {
-    /// The paper's exact words (the default).
-    #[default]
-    Diarc,
-    /// Fluent English; refusals are gentler for mild norms and firmer for grave ones.
-    Natural,
-}
-
-/// What to say, by reading index into the interpretations (in the contract's order).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Plan {
-    Comply(usize),
-    Refuse(usize),
-    /// Ask which of `offered` is meant; `more` when other readings exist that are not named.
-    Ask {
-        offered: Vec<usize>,
-        more: bool,
-    },
-    /// Too many readings to name: ask which thing each ambiguous reference means ("notebook").
-    AskWhich {
-        nouns: Vec<String>,
-    },
-    Assume {
-        chosen: usize,
-        others: Vec<usize>,
-    },
-    Confirm {
-        chosen: usize,
-        others: Vec<usize>,
-    },
-    Explain(Vec<usize>),
-    /// References that match nothing, in words ("the spoon").
-    Unresolved(Vec<String>),
-}
 
 fn act(name: &str, what: Term) -> Term {
     Term::compound(name, vec![Term::constant("self"), what])

@@ -9,9 +9,10 @@ use proptest::prelude::*;
 
 use super::action::Library;
 use super::clarify::{
-    Candidate, DEFAULT_MAX_SPOKEN, Decision, DecisionKind, Directive, FEW, Interpretation, Options, Reference, Request,
-    SinglePermissible, Strategy as ClarifyStrategy, clarify,
+    Candidate, DEFAULT_MAX_SPOKEN, Directive, FEW, Options, Reference, Request, SinglePermissible,
+    Strategy as ClarifyStrategy, clarify,
 };
+use super::decision::{Decision, DecisionKind, Interpretation};
 use super::norms::{CompiledNorms, Norm, NormInput};
 use super::scene::{Agent, Object, Scene, Shape};
 use super::term::{Sym, Term};

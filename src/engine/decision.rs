@@ -1,0 +1,148 @@
+//! What a decision is: the readings simulated, the plan of what to say, and the answer.
+//!
+//! Owns: the types Algorithm 1 (`clarify`) produces and the words (`speech`) render, so that
+//! neither has to import the other for them. Must not: decide or word anything itself.
+
+use super::simulate::Outcome;
+use super::term::Term;
+
+/// How the robot phrases its answer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Style {
+    /// The paper's exact words (the default).
+    #[default]
+    Diarc,
+    /// Fluent English; refusals are gentler for mild norms and firmer for grave ones.
+    Natural,
+}
+
+/// What to say, by reading index into the interpretations (in the contract's order).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Plan {
+    Comply(usize),
+    Refuse(usize),
+    /// Ask which of `offered` is meant; `more` when other readings exist that are not named.
+    Ask {
+        offered: Vec<usize>,
+        more: bool,
+    },
+    /// Too many readings to name: ask which thing each ambiguous reference means ("notebook").
+    AskWhich {
+        nouns: Vec<String>,
+    },
+    Assume {
+        chosen: usize,
+        others: Vec<usize>,
+    },
+    Confirm {
+        chosen: usize,
+        others: Vec<usize>,
+    },
+    Explain(Vec<usize>),
+    /// References that match nothing, in words ("the spoon").
+    Unresolved(Vec<String>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecisionKind {
+    Comply,
+    Refuse,
+    Ask,
+    Assume,
+    Confirm,
+    Explain,
+    Unresolved,
+}
+
+impl DecisionKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DecisionKind::Comply => "comply",
+            DecisionKind::Refuse => "refuse",
+            DecisionKind::Ask => "ask",
+            DecisionKind::Assume => "assume",
+            DecisionKind::Confirm => "confirm",
+            DecisionKind::Explain => "explain",
+            DecisionKind::Unresolved => "unresolved",
+        }
+    }
+}
+
+/// One reading of the directive, simulated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Interpretation {
+    /// `did(self,action)`, ground.
+    pub action: Term,
+    /// The arguments in words: "the plastic vase".
+    pub description: String,
+    /// The reading in words: "get the plastic vase".
+    pub reading: String,
+    pub score: f64,
+    pub outcome: Outcome,
+    /// Each reason of `outcome` in words, in the request's style.
+    pub reason_words: Vec<String>,
+    /// The value chosen for each slot (argument or variable), in slot order.
+    pub values: Vec<Term>,
+}
+
+impl Interpretation {
+    pub fn permissible(&self) -> bool {
+        self.outcome.permissible()
+    }
+
+    pub fn feasible(&self) -> bool {
+        self.outcome.feasible()
+    }
+
+    pub fn acceptable(&self) -> bool {
+        self.permissible() && self.feasible()
+    }
+}
+
+/// Why not every reading was simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitKind {
+    /// More readings than `max_readings`: none was simulated.
+    TooManyReadings,
+    /// The request's deadline passed before every reading was simulated.
+    Deadline,
+}
+
+impl LimitKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LimitKind::TooManyReadings => "too_many_readings",
+            LimitKind::Deadline => "deadline",
+        }
+    }
+}
+
+/// A limit that was hit: the answer says so rather than truncating silently.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    pub kind: LimitKind,
+    /// How many readings the directive has.
+    pub readings: u128,
+    /// How many were simulated.
+    pub simulated: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Decision {
+    pub kind: DecisionKind,
+    pub utterance: String,
+    pub speech_act: Term,
+    /// Set for `comply` and `assume` only: the reading the robot will carry out.
+    pub goal: Option<Term>,
+    /// Every reading considered, in the contract's order.
+    pub interpretations: Vec<Interpretation>,
+    /// The readings the utterance proposes, in order: those a question names (a follow-up's
+    /// `choice` counts from 0 among them), or the one assumed, confirmed or obeyed.
+    pub offered: Vec<Term>,
+    /// Set when a cap or the deadline kept readings from being simulated.
+    pub limits: Option<Limits>,
+    /// The version of the norm set the decision was made under.
+    pub norm_version: i64,
+    /// The version of the action library it was simulated with.
+    pub library_version: i64,
+}
