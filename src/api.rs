@@ -13,11 +13,11 @@ use utoipa::ToSchema;
 use crate::engine::action::verb_name;
 use crate::engine::check::Check;
 use crate::engine::clarify::{
-    Answer, Candidate, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Directive, Options, Reference, Request,
-    SinglePermissible, Strategy,
+    Answer, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, Directive, Options, Request, SinglePermissible, Strategy,
 };
 use crate::engine::decision::{Decision, Interpretation, Limits, Style};
 use crate::engine::norms::{Norm, NormInput, NormKind, normalise_name, validate_roles};
+use crate::engine::resolve::{Candidate, Reference};
 use crate::engine::scene::{Agent, Object, Scene, Shape};
 use crate::engine::simulate::Reason;
 use crate::engine::term::{Sym, Term, TermLimits, is_constant_name};

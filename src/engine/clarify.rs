@@ -1,25 +1,28 @@
-//! Algorithm 1 and what the paper left open: from a directive and a scene to a decision.
+//! The decision pipeline: from a directive and a scene to a decision, stage by stage (resolve
+//! the references, `resolve`; build and order the readings; simulate them; choose, `algorithm`;
+//! word it, `speech`).
 //!
-//! Owns: reference resolution, the readings (interpretations) and their order, follow-up answers,
-//! the caps on how many readings are simulated and named, and the decision as a `Plan`.
-//! Must not: do I/O or read a clock (the deadline arrives as a callback), word anything (that is
-//! `speech`), or offer, assume, confirm or obey a reading that is impermissible or infeasible
+//! Owns: the request's types, the readings' order, the caps on how many are simulated, and the
+//! deadline between stages. Must not: do I/O or read a clock (the deadline arrives as a
+//! callback), or offer, assume, confirm or obey a reading that is impermissible or infeasible
 //! under the moral strategy.
 
 use std::cmp::Reverse;
-use std::collections::BTreeMap;
 
 use rayon::prelude::*;
 use std::sync::Arc;
 
 use super::action::Library;
-use super::decision::{Decision, DecisionKind, Interpretation, LimitKind, Limits, Plan, Style};
+use super::algorithm::{decide, plan_kind};
+use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
-use super::scene::{Object, Scene, spoken};
+use super::resolve::{Candidate, Reference};
+use super::resolve::{Narrowed, combinations, slots};
+use super::scene::Scene;
 use super::simulate::{Env, Outcome, did, simulate};
 use super::speech;
-use super::term::{Subst, Sym, Term};
+use super::term::{Sym, Term};
 use super::world::{Base, World};
 
 /// Defaults of the options that bound a request's work and words.
@@ -77,69 +80,6 @@ impl Default for Options {
             confirm_above_ratio: None,
         }
     }
-}
-
-/// A reference to objects of the scene: by id, or by type, attributes and properties.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Reference {
-    Id(String),
-    Described {
-        /// `None` matches any type.
-        kind: Option<String>,
-        attributes: BTreeMap<String, String>,
-        properties: Vec<String>,
-    },
-}
-
-impl Reference {
-    fn matches(&self, object: &Object) -> bool {
-        match self {
-            Reference::Id(id) => &object.id == id,
-            Reference::Described {
-                kind,
-                attributes,
-                properties,
-            } => {
-                kind.as_ref().is_none_or(|k| k == &object.kind)
-                    && attributes.iter().all(|(k, v)| object.attributes.get(k) == Some(v))
-                    && properties.iter().all(|p| object.properties.contains(p))
-            }
-        }
-    }
-
-    /// The reference in words: "the spoon", "the blue notebook", "the red one".
-    fn words(&self, scene: &Scene) -> String {
-        match self {
-            Reference::Id(id) => match scene.object(id) {
-                Some(object) => super::describe::describe_object(scene, object),
-                None => id.clone(),
-            },
-            Reference::Described {
-                attributes, properties, ..
-            } => {
-                let mut words = vec!["the".to_owned()];
-                words.extend(properties.iter().map(|p| spoken(p)));
-                words.extend(attributes.values().map(|v| spoken(v)));
-                words.push(self.noun().unwrap_or_else(|| "one".to_owned()));
-                words.join(" ")
-            }
-        }
-    }
-
-    /// The head noun: the type spoken, if the reference names one.
-    fn noun(&self) -> Option<String> {
-        match self {
-            Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
-            _ => None,
-        }
-    }
-}
-
-/// A candidate binding from an upstream resolver; higher scores are likelier.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Candidate {
-    pub id: String,
-    pub score: f64,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -202,206 +142,10 @@ impl Ord for Score {
     }
 }
 
-/// One argument (or variable) of the directive and its candidates.
-struct Slot {
-    candidates: Vec<(Term, f64)>,
-    /// The slot in words when nothing matches it ("the spoon").
-    words: String,
-    /// The slot's head noun when asking which one is meant ("spoon").
-    noun: String,
-}
-
-/// How one choice of candidates, one per slot, becomes an action.
-enum Template<'a> {
-    /// The verb applied to the chosen objects, in argument order.
-    Verb(Sym),
-    /// The form with each variable (in first-appearance order) bound to its choice.
-    Form(&'a Term, Vec<Sym>),
-}
-
-impl Template<'_> {
-    fn action(&self, values: &[Term]) -> Term {
-        match self {
-            Template::Verb(verb) => Term::compound(verb, values.to_vec()),
-            Template::Form(form, variables) => {
-                let mut subst = Subst::new();
-                for (variable, value) in variables.iter().zip(values) {
-                    subst.bind(variable.clone(), value.clone());
-                }
-                form.substitute(&subst)
-            }
-        }
-    }
-}
-
-/// The common type of a slot's candidate objects, spoken; "one" when they differ.
-fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
-    let mut kinds = candidates
-        .iter()
-        .filter_map(|(t, _)| t.name().and_then(|id| scene.object(id)))
-        .map(|o| o.kind.as_str());
-    match kinds.next() {
-        Some(first) if kinds.all(|k| k == first) => spoken(first),
-        _ => "one".to_owned(),
-    }
-}
-
-fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
-    match directive {
-        Directive::Action { verb, arguments } => {
-            let slots = arguments
-                .iter()
-                .map(|reference| {
-                    let candidates: Vec<(Term, f64)> = scene
-                        .objects
-                        .iter()
-                        .filter(|o| reference.matches(o))
-                        .map(|o| (Term::constant(&o.id), 1.0))
-                        .collect();
-                    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
-                    Slot {
-                        candidates,
-                        words: reference.words(scene),
-                        noun,
-                    }
-                })
-                .collect();
-            (Template::Verb(Sym::from(verb.as_str())), slots)
-        }
-        Directive::Form { action, bindings } => {
-            let variables = action.variables();
-            let slots = variables
-                .iter()
-                .map(|variable| {
-                    let given = bindings
-                        .iter()
-                        .find(|(v, _)| v == variable)
-                        .map(|(_, cs)| cs.as_slice());
-                    let candidates: Vec<(Term, f64)> = given
-                        .unwrap_or_default()
-                        .iter()
-                        .filter(|c| scene.object(&c.id).is_some())
-                        .map(|c| (Term::constant(&c.id), c.score))
-                        .collect();
-                    let noun = common_noun(scene, &candidates);
-                    Slot {
-                        candidates,
-                        words: variable.to_string(),
-                        noun,
-                    }
-                })
-                .collect();
-            (Template::Form(action, variables), slots)
-        }
-    }
-}
-
-/// Every combination of one candidate from each list (last list fastest): the values and the
-/// score.
-fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
-    let mut out = Vec::new();
-    if lists.iter().any(|l| l.is_empty()) {
-        return out;
-    }
-    let mut choice = vec![0usize; lists.len()];
-    loop {
-        let values = choice.iter().zip(lists).map(|(&i, l)| l[i].0.clone()).collect();
-        let score = choice.iter().zip(lists).map(|(&i, l)| l[i].1).product();
-        out.push((values, score));
-        let mut slot = lists.len();
-        loop {
-            if slot == 0 {
-                return out;
-            }
-            slot -= 1;
-            choice[slot] += 1;
-            if choice[slot] < lists[slot].len() {
-                break;
-            }
-            choice[slot] = 0;
-        }
-    }
-}
-
-/// Whether an object the answer names is this candidate.
-fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
-    let Some(object) = value.name().and_then(|id| scene.object(id)) else {
-        return false;
-    };
-    match answer {
-        Answer::Id(id) => &object.id == id,
-        Answer::Reference(reference) => reference.matches(object),
-        Answer::Choice(_) => true,
-    }
-}
-
-/// The readings a follow-up keeps (those with an argument the answer names), counted and built
-/// without going through the others: the answer narrows the readings before `max_readings` is
-/// applied, so five cups and "c2" are one reading, not five times five.
-struct Narrowed {
-    /// Per slot: the candidates the answer names, and the others.
-    named: Vec<Vec<(Term, f64)>>,
-    others: Vec<Vec<(Term, f64)>>,
-}
-
-impl Narrowed {
-    fn new(answer: &Answer, slots: &[Slot], scene: &Scene) -> Narrowed {
-        let (named, others) = slots
-            .iter()
-            .map(|s| {
-                s.candidates
-                    .iter()
-                    .cloned()
-                    .partition(|(t, _)| answer_names(answer, t, scene))
-            })
-            .unzip();
-        Narrowed { named, others }
-    }
-
-    /// All combinations less those that name nothing the answer names.
-    fn count(&self) -> u128 {
-        let product = |lists: &[Vec<(Term, f64)>], with: &[Vec<(Term, f64)>]| {
-            lists
-                .iter()
-                .zip(with)
-                .try_fold(1u128, |n, (a, b)| n.checked_mul((a.len() + b.len()) as u128))
-        };
-        let none = self
-            .others
-            .iter()
-            .try_fold(1u128, |n, l| n.checked_mul(l.len() as u128));
-        match (product(&self.named, &self.others), none) {
-            (Some(all), Some(none)) => all - none,
-            _ => u128::MAX,
-        }
-    }
-
-    /// Each kept combination once: slot `i` is the first whose value the answer names.
-    fn combinations(&self) -> Vec<(Vec<Term>, f64)> {
-        let all: Vec<Vec<(Term, f64)>> = self
-            .named
-            .iter()
-            .zip(&self.others)
-            .map(|(a, b)| a.iter().chain(b).cloned().collect())
-            .collect();
-        let mut out = Vec::new();
-        for first in 0..self.named.len() {
-            let lists: Vec<&[(Term, f64)]> = (0..self.named.len())
-                .map(|j| match j.cmp(&first) {
-                    std::cmp::Ordering::Less => self.others[j].as_slice(),
-                    std::cmp::Ordering::Equal => self.named[j].as_slice(),
-                    std::cmp::Ordering::Greater => all[j].as_slice(),
-                })
-                .collect();
-            out.extend(combinations(&lists));
-        }
-        out
-    }
-}
-
 /// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
-/// `expired` tells whether the request's deadline has passed; it is asked before each reading
-/// after the first is simulated (the first always is).
+/// `expired` tells whether the request's deadline has passed (or its client has gone); it is
+/// asked while the readings are described, between batches of readings, and before every step
+/// a plan expands.
 pub fn clarify(
     request: &Request,
     scene: &Scene,
@@ -576,106 +320,6 @@ pub fn clarify(
         plan = decide(options, &readings, &slots, false);
     }
     Ok(finish(plan, readings, limits, &mut describer))
-}
-
-/// The nouns of the slots whose value differs among `readings` ("which notebook").
-fn varying_nouns(readings: &[&Interpretation], slots: &[Slot]) -> Vec<String> {
-    slots
-        .iter()
-        .enumerate()
-        .filter(|(j, _)| readings.windows(2).any(|w| w[0].values[*j] != w[1].values[*j]))
-        .map(|(_, s)| s.noun.clone())
-        .collect()
-}
-
-/// The question for more acceptable readings than may be named: the few likeliest, or, when
-/// they are all equally likely, the words that are ambiguous.
-fn too_many(good: &[usize], all: &[Interpretation], slots: &[Slot], max_spoken: usize) -> Plan {
-    let evenly = good.windows(2).all(|w| all[w[0]].score == all[w[1]].score);
-    let nouns = varying_nouns(&good.iter().map(|&i| &all[i]).collect::<Vec<_>>(), slots);
-    if evenly && !nouns.is_empty() {
-        Plan::AskWhich { nouns }
-    } else {
-        Plan::Ask {
-            offered: good.iter().copied().take(FEW.min(max_spoken)).collect(),
-            more: true,
-        }
-    }
-}
-
-/// Algorithm 1 (two or more readings), the single-reading cases, and the caps.
-fn decide(options: Options, all: &[Interpretation], slots: &[Slot], incomplete: bool) -> Plan {
-    let good: Vec<usize> = (0..all.len()).filter(|&i| all[i].acceptable()).collect();
-    if incomplete {
-        // Unsimulated readings remain: never assume, obey or explain on a partial view; name
-        // only simulated acceptable readings, and say there may be something else.
-        let nouns: Vec<String> = slots
-            .iter()
-            .filter(|s| s.candidates.len() > 1)
-            .map(|s| s.noun.clone())
-            .collect();
-        return if all.len() == 1 && all[0].outcome.unfinished() {
-            // The one reading, cut short by the deadline: refused, saying so.
-            Plan::Refuse(0)
-        } else if good.is_empty() {
-            Plan::AskWhich { nouns }
-        } else {
-            Plan::Ask {
-                offered: good.into_iter().take(FEW.min(options.max_spoken)).collect(),
-                more: true,
-            }
-        };
-    }
-    if all.len() == 1 {
-        return if good.len() == 1 {
-            Plan::Comply(0)
-        } else {
-            Plan::Refuse(0)
-        };
-    }
-    if options.strategy == Strategy::Reflexive {
-        return Plan::Ask {
-            offered: (0..all.len().min(options.max_spoken)).collect(),
-            more: all.len() > options.max_spoken,
-        };
-    }
-    let others: Vec<usize> = (0..all.len()).filter(|&i| !all[i].acceptable()).collect();
-    match good.as_slice() {
-        [] => Plan::Explain(others),
-        [chosen] => {
-            let share = others.len() as f64 / all.len() as f64;
-            let confirm = options.single_permissible == SinglePermissible::Confirm
-                || options.confirm_above_ratio.is_some_and(|ratio| share > ratio);
-            if confirm {
-                Plan::Confirm {
-                    chosen: *chosen,
-                    others,
-                }
-            } else {
-                Plan::Assume {
-                    chosen: *chosen,
-                    others,
-                }
-            }
-        }
-        several if several.len() <= options.max_spoken => Plan::Ask {
-            offered: several.to_vec(),
-            more: false,
-        },
-        several => too_many(several, all, slots, options.max_spoken),
-    }
-}
-
-fn plan_kind(plan: &Plan) -> DecisionKind {
-    match plan {
-        Plan::Comply(_) => DecisionKind::Comply,
-        Plan::Refuse(_) => DecisionKind::Refuse,
-        Plan::Ask { .. } | Plan::AskWhich { .. } => DecisionKind::Ask,
-        Plan::Assume { .. } => DecisionKind::Assume,
-        Plan::Confirm { .. } => DecisionKind::Confirm,
-        Plan::Explain(_) => DecisionKind::Explain,
-        Plan::Unresolved(_) => DecisionKind::Unresolved,
-    }
 }
 
 fn render(

@@ -4,11 +4,13 @@
 //! as arguments, so it is tested without a runtime.
 
 pub mod action;
+pub mod algorithm;
 pub mod check;
 pub mod clarify;
 pub mod decision;
 pub mod describe;
 pub mod norms;
+pub mod resolve;
 pub mod scene;
 pub mod simulate;
 pub mod speech;

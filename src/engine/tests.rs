@@ -9,11 +9,11 @@ use proptest::prelude::*;
 
 use super::action::Library;
 use super::clarify::{
-    Candidate, DEFAULT_MAX_SPOKEN, Directive, FEW, Options, Reference, Request, SinglePermissible,
-    Strategy as ClarifyStrategy, clarify,
+    DEFAULT_MAX_SPOKEN, Directive, FEW, Options, Request, SinglePermissible, Strategy as ClarifyStrategy, clarify,
 };
 use super::decision::{Decision, DecisionKind, Interpretation};
 use super::norms::{CompiledNorms, Norm, NormInput};
+use super::resolve::{Candidate, Reference};
 use super::scene::{Agent, Object, Scene, Shape};
 use super::term::{Sym, Term};
 

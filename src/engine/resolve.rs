@@ -1,0 +1,271 @@
+//! Reference resolution: which objects of the scene each argument (or variable) may mean, and
+//! the readings their combinations make.
+//!
+//! Owns: matching references against objects, the slots of a directive and their candidates,
+//! and the readings a follow-up answer keeps. Must not: simulate, decide or word anything.
+
+use std::collections::BTreeMap;
+
+use super::clarify::{Answer, Directive};
+use super::scene::{Object, Scene, spoken};
+use super::term::{Subst, Sym, Term};
+
+/// A reference to objects of the scene: by id, or by type, attributes and properties.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reference {
+    Id(String),
+    Described {
+        /// `None` matches any type.
+        kind: Option<String>,
+        attributes: BTreeMap<String, String>,
+        properties: Vec<String>,
+    },
+}
+
+impl Reference {
+    pub(super) fn matches(&self, object: &Object) -> bool {
+        match self {
+            Reference::Id(id) => &object.id == id,
+            Reference::Described {
+                kind,
+                attributes,
+                properties,
+            } => {
+                kind.as_ref().is_none_or(|k| k == &object.kind)
+                    && attributes.iter().all(|(k, v)| object.attributes.get(k) == Some(v))
+                    && properties.iter().all(|p| object.properties.contains(p))
+            }
+        }
+    }
+
+    /// The reference in words: "the spoon", "the blue notebook", "the red one".
+    pub(super) fn words(&self, scene: &Scene) -> String {
+        match self {
+            Reference::Id(id) => match scene.object(id) {
+                Some(object) => super::describe::describe_object(scene, object),
+                None => id.clone(),
+            },
+            Reference::Described {
+                attributes, properties, ..
+            } => {
+                let mut words = vec!["the".to_owned()];
+                words.extend(properties.iter().map(|p| spoken(p)));
+                words.extend(attributes.values().map(|v| spoken(v)));
+                words.push(self.noun().unwrap_or_else(|| "one".to_owned()));
+                words.join(" ")
+            }
+        }
+    }
+
+    /// The head noun: the type spoken, if the reference names one.
+    pub(super) fn noun(&self) -> Option<String> {
+        match self {
+            Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
+            _ => None,
+        }
+    }
+}
+
+/// A candidate binding from an upstream resolver; higher scores are likelier.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Candidate {
+    pub id: String,
+    pub score: f64,
+}
+
+/// One argument (or variable) of the directive and its candidates.
+pub(super) struct Slot {
+    pub(super) candidates: Vec<(Term, f64)>,
+    /// The slot in words when nothing matches it ("the spoon").
+    pub(super) words: String,
+    /// The slot's head noun when asking which one is meant ("spoon").
+    pub(super) noun: String,
+}
+
+/// How one choice of candidates, one per slot, becomes an action.
+pub(super) enum Template<'a> {
+    /// The verb applied to the chosen objects, in argument order.
+    Verb(Sym),
+    /// The form with each variable (in first-appearance order) bound to its choice.
+    Form(&'a Term, Vec<Sym>),
+}
+
+impl Template<'_> {
+    pub(super) fn action(&self, values: &[Term]) -> Term {
+        match self {
+            Template::Verb(verb) => Term::compound(verb, values.to_vec()),
+            Template::Form(form, variables) => {
+                let mut subst = Subst::new();
+                for (variable, value) in variables.iter().zip(values) {
+                    subst.bind(variable.clone(), value.clone());
+                }
+                form.substitute(&subst)
+            }
+        }
+    }
+}
+
+/// The common type of a slot's candidate objects, spoken; "one" when they differ.
+fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
+    let mut kinds = candidates
+        .iter()
+        .filter_map(|(t, _)| t.name().and_then(|id| scene.object(id)))
+        .map(|o| o.kind.as_str());
+    match kinds.next() {
+        Some(first) if kinds.all(|k| k == first) => spoken(first),
+        _ => "one".to_owned(),
+    }
+}
+
+pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
+    match directive {
+        Directive::Action { verb, arguments } => {
+            let slots = arguments
+                .iter()
+                .map(|reference| {
+                    let candidates: Vec<(Term, f64)> = scene
+                        .objects
+                        .iter()
+                        .filter(|o| reference.matches(o))
+                        .map(|o| (Term::constant(&o.id), 1.0))
+                        .collect();
+                    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
+                    Slot {
+                        candidates,
+                        words: reference.words(scene),
+                        noun,
+                    }
+                })
+                .collect();
+            (Template::Verb(Sym::from(verb.as_str())), slots)
+        }
+        Directive::Form { action, bindings } => {
+            let variables = action.variables();
+            let slots = variables
+                .iter()
+                .map(|variable| {
+                    let given = bindings
+                        .iter()
+                        .find(|(v, _)| v == variable)
+                        .map(|(_, cs)| cs.as_slice());
+                    let candidates: Vec<(Term, f64)> = given
+                        .unwrap_or_default()
+                        .iter()
+                        .filter(|c| scene.object(&c.id).is_some())
+                        .map(|c| (Term::constant(&c.id), c.score))
+                        .collect();
+                    let noun = common_noun(scene, &candidates);
+                    Slot {
+                        candidates,
+                        words: variable.to_string(),
+                        noun,
+                    }
+                })
+                .collect();
+            (Template::Form(action, variables), slots)
+        }
+    }
+}
+
+/// Every combination of one candidate from each list (last list fastest): the values and the
+/// score.
+pub(super) fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
+    let mut out = Vec::new();
+    if lists.iter().any(|l| l.is_empty()) {
+        return out;
+    }
+    let mut choice = vec![0usize; lists.len()];
+    loop {
+        let values = choice.iter().zip(lists).map(|(&i, l)| l[i].0.clone()).collect();
+        let score = choice.iter().zip(lists).map(|(&i, l)| l[i].1).product();
+        out.push((values, score));
+        let mut slot = lists.len();
+        loop {
+            if slot == 0 {
+                return out;
+            }
+            slot -= 1;
+            choice[slot] += 1;
+            if choice[slot] < lists[slot].len() {
+                break;
+            }
+            choice[slot] = 0;
+        }
+    }
+}
+
+/// Whether an object the answer names is this candidate.
+fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
+    let Some(object) = value.name().and_then(|id| scene.object(id)) else {
+        return false;
+    };
+    match answer {
+        Answer::Id(id) => &object.id == id,
+        Answer::Reference(reference) => reference.matches(object),
+        Answer::Choice(_) => true,
+    }
+}
+
+/// The readings a follow-up keeps (those with an argument the answer names), counted and built
+/// without going through the others: the answer narrows the readings before `max_readings` is
+/// applied, so five cups and "c2" are one reading, not five times five.
+pub(super) struct Narrowed {
+    /// Per slot: the candidates the answer names, and the others.
+    named: Vec<Vec<(Term, f64)>>,
+    others: Vec<Vec<(Term, f64)>>,
+}
+
+impl Narrowed {
+    pub(super) fn new(answer: &Answer, slots: &[Slot], scene: &Scene) -> Narrowed {
+        let (named, others) = slots
+            .iter()
+            .map(|s| {
+                s.candidates
+                    .iter()
+                    .cloned()
+                    .partition(|(t, _)| answer_names(answer, t, scene))
+            })
+            .unzip();
+        Narrowed { named, others }
+    }
+
+    /// All combinations less those that name nothing the answer names.
+    pub(super) fn count(&self) -> u128 {
+        let product = |lists: &[Vec<(Term, f64)>], with: &[Vec<(Term, f64)>]| {
+            lists
+                .iter()
+                .zip(with)
+                .try_fold(1u128, |n, (a, b)| n.checked_mul((a.len() + b.len()) as u128))
+        };
+        let none = self
+            .others
+            .iter()
+            .try_fold(1u128, |n, l| n.checked_mul(l.len() as u128));
+        match (product(&self.named, &self.others), none) {
+            (Some(all), Some(none)) => all - none,
+            _ => u128::MAX,
+        }
+    }
+
+    /// Each kept combination once: slot `i` is the first whose value the answer names.
+    pub(super) fn combinations(&self) -> Vec<(Vec<Term>, f64)> {
+        let all: Vec<Vec<(Term, f64)>> = self
+            .named
+            .iter()
+            .zip(&self.others)
+            .map(|(a, b)| a.iter().chain(b).cloned().collect())
+            .collect();
+        let mut out = Vec::new();
+        for first in 0..self.named.len() {
+            let lists: Vec<&[(Term, f64)]> = (0..self.named.len())
+                .map(|j| match j.cmp(&first) {
+                    std::cmp::Ordering::Less => self.others[j].as_slice(),
+                    std::cmp::Ordering::Equal => self.named[j].as_slice(),
+                    std::cmp::Ordering::Greater => all[j].as_slice(),
+                })
+                .collect();
+            out.extend(combinations(&lists));
+        }
+        out
+    }
+}
