@@ -1,0 +1,141 @@
+//! Each decision outside the paper's cases: single candidates, unresolved references, strategies.
+
+use super::*;
+
+// Each decision outside the paper's cases: single candidates, unresolved references, strategies
+
+#[test]
+fn single_candidates_unresolved_references_and_strategies() {
+    run_cases(vec![
+        case(
+            "an unknown type is unresolved",
+            lab(),
+            paper_norms(),
+            act("get", vec![ty("spoon")]),
+            expect(Unresolved, None, "I do not know what you mean by the spoon.").interps(vec![]),
+        ),
+        case(
+            "attributes that match nothing are unresolved, spoken with them",
+            lab(),
+            paper_norms(),
+            act("get", vec![ty_with("notebook", &[], &[("color", "blue")])]),
+            expect(Unresolved, None, "I do not know what you mean by the blue notebook.").interps(vec![]),
+        ),
+        case(
+            "properties that match nothing are unresolved",
+            lab(),
+            paper_norms(),
+            act("get", vec![ty_with("mug", &["fragile"], &[])]),
+            expect(Unresolved, None, "I do not know what you mean by the fragile mug.").interps(vec![]),
+        ),
+        case(
+            "an empty scene is unresolved",
+            scene(vec![], &[]),
+            paper_norms(),
+            act("get", vec![ty("mug")]),
+            expect(Unresolved, None, "I do not know what you mean by the mug.").interps(vec![]),
+        ),
+        case(
+            "one unresolved argument of two is enough",
+            lab(),
+            paper_norms(),
+            act("put", vec![ty("notebook"), ty("spoon")]),
+            expect(Unresolved, None, "I do not know what you mean by the spoon.").interps(vec![]),
+        ),
+        case(
+            "a reference with properties narrows to one: comply",
+            lab(),
+            paper_norms(),
+            act("get", vec![ty_with("vase", &[], &[("material", "plastic")])]),
+            expect(Comply, Some("did(self,get(object4))"), "Okay."),
+        ),
+        case(
+            "a reference by id to the forbidden vase: refuse with the forbidden state",
+            lab(),
+            paper_norms(),
+            act("get", vec![id("object3")]),
+            expect(
+                Refuse,
+                None,
+                "I cannot get the fragile vase because it requires a forbidden state.",
+            )
+            .act("cannot(did(self,get(object3)),because(forbiddenState(did(self,get(object3)))))")
+            .interps(vec![interp(
+                "did(self,get(object3))",
+                "the fragile vase",
+                vec![(FS, "did(self,get(object3))", Some(2))],
+                &["get(object3)"],
+            )]),
+        ),
+        case(
+            "no norms at all: two vases are asked about",
+            lab(),
+            norms(&[]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the fragile vase or that you want me to get the plastic vase?",
+            ),
+        ),
+        case(
+            "reflexive, one candidate, permissible: comply like moral",
+            lab(),
+            paper_norms(),
+            reflexive(act("get", vec![ty("mug")])),
+            expect(Comply, Some("did(self,get(object5))"), "Okay."),
+        ),
+        case(
+            "reflexive, one candidate, forbidden: refuse like moral",
+            lab(),
+            paper_norms(),
+            reflexive(act("destroy", vec![ty("mug")])),
+            expect(
+                Refuse,
+                None,
+                "I cannot destroy the mug because destroy is forbidden action.",
+            ),
+        ),
+        case(
+            "reflexive, several: asks about all, the forbidden one too",
+            lab(),
+            paper_norms(),
+            reflexive(act("get", vec![ty("vase")])),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the fragile vase or that you want me to get the plastic vase?",
+            )
+            .act("want_know(self,mean(human,or(did(self,get(object3)),did(self,get(object4)))))"),
+        ),
+        case(
+            "reflexive, several, all forbidden: still asks",
+            lab(),
+            paper_norms(),
+            reflexive(act("destroy", vec![ty("notebook")])),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to destroy the green notebook or that you want me to destroy the red notebook?",
+            ),
+        ),
+        case(
+            "reflexive ignores single_permissible too: it asks",
+            lab(),
+            paper_norms(),
+            confirming(reflexive(act("get", vec![ty("vase")]))),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the fragile vase or that you want me to get the plastic vase?",
+            ),
+        ),
+        case(
+            "confirm with one candidate still complies",
+            lab(),
+            paper_norms(),
+            confirming(act("get", vec![ty("mug")])),
+            expect(Comply, Some("did(self,get(object5))"), "Okay."),
+        ),
+    ]);
+}

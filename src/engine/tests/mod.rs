@@ -1,0 +1,33 @@
+//! Table-driven tests of the whole engine (scene, norms, simulation, Algorithm 1, utterances)
+//! against CONTRACT.md and `../shared/scenarios/paper-demo.json`, and a property test of the
+//! safety invariant: under the moral strategy no reading that violates a norm or cannot be done
+//! is ever offered, assumed, confirmed or obeyed.
+
+use std::collections::BTreeMap;
+
+use proptest::prelude::*;
+
+use super::action::Library;
+use super::clarify::{
+    DEFAULT_MAX_SPOKEN, Directive, FEW, Options, Request, SinglePermissible, Strategy as ClarifyStrategy, clarify,
+};
+use super::decision::{Decision, DecisionKind, Interpretation};
+use super::norms::{CompiledNorms, Norm, NormInput};
+use super::resolve::{Candidate, Reference};
+use super::scene::{Agent, Object, Scene, Shape};
+use super::term::{Sym, Term};
+
+use DecisionKind::{Ask, Assume, Comply, Confirm, Explain, Refuse, Unresolved};
+
+mod decisions;
+mod feasibility;
+mod fixtures;
+mod norms;
+mod ordering;
+mod paper;
+mod plans;
+mod runner;
+mod safety;
+
+use fixtures::*;
+use runner::*;

@@ -1,0 +1,210 @@
+//! Norms with conditions and contexts.
+
+use super::*;
+
+// Norms with conditions and contexts
+
+#[test]
+fn conditional_and_contextual_norms() {
+    let lab_on_table = || scene(lab_objects(), &["on(object3,table1)"]);
+    run_cases(vec![
+        case(
+            "holding a fragile thing is forbidden: the plastic vase is assumed",
+            lab(),
+            norms(&[when(fs("holding(self,X)"), &["fragile(X)"])]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Assume,
+                Some("did(self,get(object4))"),
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+            )
+            .interps(vec![
+                interp(
+                    "did(self,get(object3))",
+                    "the fragile vase",
+                    vec![(FS, "holding(self,object3)", Some(1))],
+                    &["get(object3)"],
+                ),
+                interp("did(self,get(object4))", "the plastic vase", vec![], &["get(object4)"]),
+            ]),
+        ),
+        case(
+            "holding a fragile thing: pointing to it is fine",
+            lab(),
+            norms(&[when(fs("holding(self,X)"), &["fragile(X)"])]),
+            act("pointTo", vec![ty("vase")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to point to the fragile vase or that you want me to point to the plastic vase?",
+            ),
+        ),
+        case(
+            "a when-only variable: getting what is on something is forbidden",
+            lab_on_table(),
+            norms(&[when(fa("get(X)"), &["on(X,Y)"])]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Assume,
+                Some("did(self,get(object4))"),
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because get is forbidden action.",
+            )
+            .interps(vec![
+                interp("did(self,get(object3))", "the fragile vase", vec![(FA, "get(object3)", Some(1))], &["get(object3)"]),
+                interp("did(self,get(object4))", "the plastic vase", vec![], &["get(object4)"]),
+            ]),
+        ),
+        case(
+            "a when-only variable on a bare action name: any value will do",
+            lab_on_table(),
+            norms(&[when(fa("get"), &["on(object3,Y)"])]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Explain,
+                None,
+                "I believe that I cannot get the fragile vase because get is forbidden action and that I cannot get the plastic vase because get is forbidden action.",
+            ),
+        ),
+        case(
+            "a when condition that no fact satisfies never applies",
+            lab(),
+            norms(&[when(fa("get(X)"), &["on(X,Y)"])]),
+            act("get", vec![ty("mug")]),
+            expect(Comply, Some("did(self,get(object5))"), "Okay."),
+        ),
+        case(
+            "a when condition the simulation has not made true: destroying what is not held",
+            lab(),
+            norms(&[when(fs("destroyed(X)"), &["holding(self,X)"])]),
+            act("destroy", vec![ty("mug")]),
+            expect(Comply, Some("did(self,destroy(object5))"), "Okay."),
+        ),
+        case(
+            "a when condition made true earlier in the plan: put after its own get",
+            lab(),
+            norms(&[when(fs("did(self,put(X,Y))"), &["did(self,get(X))"])]),
+            act("put", vec![ty_with("notebook", &[], &[("color", "red")]), ty("mug")]),
+            expect(Refuse, None, "I cannot put the red notebook on the mug because it requires a forbidden state.")
+                .interps(vec![interp(
+                    "did(self,put(object1,object5))",
+                    "the red notebook on the mug",
+                    vec![(FS, "did(self,put(object1,object5))", Some(1))],
+                    &["get(object1)", "put(object1,object5)"],
+                )]),
+        ),
+        case(
+            "a when condition on the state being entered, with an attribute",
+            lab(),
+            norms(&[when(fs("holding(self,X)"), &["color(X,red)"])]),
+            act("get", vec![ty("notebook")]),
+            expect(
+                Assume,
+                Some("did(self,get(object2))"),
+                "I am assuming you want me to get the green notebook. I cannot get the red notebook because it requires a forbidden state.",
+            ),
+        ),
+        case(
+            "a state that already held is entered when its condition becomes true",
+            lab(),
+            norms(&[when(fs("fragile(X)"), &["holding(self,X)"])]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Assume,
+                Some("did(self,get(object4))"),
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+            )
+            .interps(vec![
+                interp(
+                    "did(self,get(object3))",
+                    "the fragile vase",
+                    vec![(FS, "fragile(object3)", Some(1))],
+                    &["get(object3)"],
+                ),
+                interp("did(self,get(object4))", "the plastic vase", vec![], &["get(object4)"]),
+            ]),
+        ),
+        case(
+            "a hospital norm does not apply in the default context",
+            lab(),
+            norms(&[in_context(fa("get"), "hospital")]),
+            act("get", vec![ty("mug")]),
+            expect(Comply, Some("did(self,get(object5))"), "Okay."),
+        ),
+        case(
+            "a hospital norm applies in the hospital",
+            lab(),
+            norms(&[in_context(fa("get"), "hospital")]),
+            with_context(act("get", vec![ty("mug")]), "hospital"),
+            expect(Refuse, None, "I cannot get the mug because get is forbidden action.")
+                .interps(vec![interp("did(self,get(object5))", "the mug", vec![(FA, "get(object5)", Some(1))], &["get(object5)"])]),
+        ),
+        case(
+            "a norm without context applies in the hospital too",
+            lab(),
+            paper_norms(),
+            with_context(act("destroy", vec![ty("mug")]), "hospital"),
+            expect(Refuse, None, "I cannot destroy the mug because destroy is forbidden action."),
+        ),
+        case(
+            "a default-context norm does not apply in the hospital",
+            lab(),
+            norms(&[in_context(fa("destroy"), "default")]),
+            with_context(act("destroy", vec![ty("mug")]), "hospital"),
+            expect(Comply, Some("did(self,destroy(object5))"), "Okay."),
+        ),
+        case(
+            "a contextual forbidden state",
+            lab(),
+            norms(&[in_context(fs("did(self,get(object3))"), "hospital")]),
+            with_context(act("get", vec![ty("vase")]), "hospital"),
+            expect(
+                Assume,
+                Some("did(self,get(object4))"),
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+            ),
+        ),
+        case(
+            "a contextual forbidden state, out of its context",
+            lab(),
+            norms(&[in_context(fs("did(self,get(object3))"), "hospital")]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the fragile vase or that you want me to get the plastic vase?",
+            ),
+        ),
+        case(
+            "an action norm with an argument forbids only that argument",
+            lab(),
+            norms(&[fa("get(object1)")]),
+            act("get", vec![ty("notebook")]),
+            expect(
+                Assume,
+                Some("did(self,get(object2))"),
+                "I am assuming you want me to get the green notebook. I cannot get the red notebook because get is forbidden action.",
+            ),
+        ),
+        case(
+            "a bare action name forbids the verb at every arity",
+            lab(),
+            norms(&[fa("put")]),
+            act("put", vec![ty_with("notebook", &[], &[("color", "red")]), ty("mug")]),
+            expect(Refuse, None, "I cannot put the red notebook on the mug because put is forbidden action.").interps(
+                vec![interp(
+                    "did(self,put(object1,object5))",
+                    "the red notebook on the mug",
+                    vec![(FA, "put(object1,object5)", Some(1))],
+                    &["get(object1)", "put(object1,object5)"],
+                )],
+            ),
+        ),
+        case(
+            "an action norm written with types and spaces",
+            lab(),
+            norms(&[fa("destroy( X:physobj )")]),
+            act("destroy", vec![ty("mug")]),
+            expect(Refuse, None, "I cannot destroy the mug because destroy is forbidden action."),
+        ),
+    ]);
+}

@@ -1,0 +1,262 @@
+//! Order of interpretations, descriptions and readings.
+
+use super::*;
+
+// Order of interpretations, descriptions and readings
+
+#[test]
+fn ordering_descriptions_and_readings() {
+    run_cases(vec![
+        case(
+            "scores override description order",
+            lab(),
+            paper_norms(),
+            form_scored("get(X)", &[("X", &[("object2", 0.2), ("object1", 0.8)])]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the red notebook or that you want me to get the green notebook?",
+            )
+            .act("want_know(self,mean(human,or(did(self,get(object1)),did(self,get(object2)))))")
+            .interps(vec![
+                interp("did(self,get(object1))", "the red notebook", vec![], &["get(object1)"]),
+                interp(
+                    "did(self,get(object2))",
+                    "the green notebook",
+                    vec![],
+                    &["get(object2)"],
+                ),
+            ]),
+        ),
+        case(
+            "equal scores fall back to description order",
+            lab(),
+            paper_norms(),
+            form_scored("get(X)", &[("X", &[("object1", 0.5), ("object2", 0.5)])]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the green notebook or that you want me to get the red notebook?",
+            ),
+        ),
+        case(
+            "scores order an explanation",
+            lab(),
+            paper_norms(),
+            form_scored("destroy(X)", &[("X", &[("object3", 0.1), ("object4", 0.9)])]),
+            expect(
+                Explain,
+                None,
+                "I believe that I cannot destroy the plastic vase because destroy is forbidden action and that I cannot destroy the fragile vase because destroy is forbidden action.",
+            ),
+        ),
+        case(
+            "equal descriptions fall back to the canonical action",
+            scene(
+                vec![
+                    obj("zbox", "cash_box", &[], &[], [0.5, 0.0, 0.8], None),
+                    obj("abox", "cashBox", &[], &[], [0.5, 0.2, 0.8], None),
+                ],
+                &[],
+            ),
+            norms(&[]),
+            form("get(X)", &[("X", &["zbox", "abox"])]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the cash box or that you want me to get the cash box?",
+            )
+            .act("want_know(self,mean(human,or(did(self,get(abox)),did(self,get(zbox)))))"),
+        ),
+        case(
+            "two identical mugs get their ids",
+            lab_with(|objects| objects.push(obj("object6", "mug", &[], &[], [0.5, 0.4, 0.8], mug_shape()))),
+            paper_norms(),
+            act("get", vec![ty("mug")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the mug (object5) or that you want me to get the mug (object6)?",
+            )
+            .interps(vec![
+                interp("did(self,get(object5))", "the mug (object5)", vec![], &["get(object5)"]),
+                interp("did(self,get(object6))", "the mug (object6)", vec![], &["get(object6)"]),
+            ]),
+        ),
+        case(
+            "a feature that rules nothing out is left out",
+            scene(
+                vec![
+                    obj("v1", "vase", &["fragile", "heavy"], &[], [0.5, 0.0, 0.8], None),
+                    obj("v2", "vase", &["fragile"], &[], [0.5, 0.2, 0.8], None),
+                ],
+                &[],
+            ),
+            norms(&[]),
+            act("get", vec![ty("vase")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the heavy vase or that you want me to get the vase (v2)?",
+            ),
+        ),
+        case(
+            "features are added in order: properties as listed, then attributes by key",
+            scene(
+                vec![
+                    obj(
+                        "v1",
+                        "vase",
+                        &["fragile"],
+                        &[("size", "big"), ("color", "red")],
+                        [0.5, 0.0, 0.8],
+                        None,
+                    ),
+                    obj(
+                        "v2",
+                        "vase",
+                        &["fragile"],
+                        &[("color", "blue"), ("size", "big")],
+                        [0.5, 0.2, 0.8],
+                        None,
+                    ),
+                    obj(
+                        "v3",
+                        "vase",
+                        &[],
+                        &[("color", "red"), ("size", "big")],
+                        [0.5, 0.4, 0.8],
+                        None,
+                    ),
+                ],
+                &[],
+            ),
+            norms(&[]),
+            act("pointTo", vec![ty("vase")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to point to the fragile blue vase or that you want me to point to the fragile red vase or that you want me to point to the red vase (v3)?",
+            ),
+        ),
+        case(
+            "distractors are only objects of the same type",
+            lab_with(|objects| objects.push(obj("object6", "cup", &[], &[("color", "red")], [0.5, 0.3, 0.8], None))),
+            paper_norms(),
+            act("get", vec![ty_with("notebook", &[], &[("color", "red")])]),
+            expect(Comply, Some("did(self,get(object1))"), "Okay.").interps(vec![interp(
+                "did(self,get(object1))",
+                "the red notebook",
+                vec![],
+                &["get(object1)"],
+            )]),
+        ),
+        case(
+            "spoken forms of types and values",
+            scene(
+                vec![
+                    obj("box1", "cash_box", &[], &[("color", "dark_red")], [0.5, 0.0, 0.8], None),
+                    obj(
+                        "box2",
+                        "cash_box",
+                        &[],
+                        &[("color", "lightBlue")],
+                        [0.5, 0.2, 0.8],
+                        None,
+                    ),
+                ],
+                &[],
+            ),
+            norms(&[]),
+            act("pointTo", vec![ty("cash_box")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to point to the dark red cash box or that you want me to point to the light blue cash box?",
+            ),
+        ),
+        case(
+            "put readings join with on",
+            lab(),
+            paper_norms(),
+            act("put", vec![ty_with("notebook", &[], &[("color", "red")]), ty("mug")]),
+            expect(Comply, Some("did(self,put(object1,object5))"), "Okay.")
+                .act("acknowledge(self,mean(human,did(self,put(object1,object5))))")
+                .interps(vec![interp(
+                    "did(self,put(object1,object5))",
+                    "the red notebook on the mug",
+                    vec![],
+                    &["get(object1)", "put(object1,object5)"],
+                )]),
+        ),
+        case(
+            "put with both arguments ambiguous: every combination, in description order",
+            lab(),
+            norms(&[]),
+            act("put", vec![ty("vase"), ty("notebook")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to put the fragile vase on the green notebook or that you want me to put the fragile vase on the red notebook or that you want me to put the plastic vase on the green notebook or that you want me to put the plastic vase on the red notebook?",
+            ),
+        ),
+        case(
+            "put the vase on the mug: the fragile one needs a forbidden get",
+            lab(),
+            paper_norms(),
+            act("put", vec![ty("vase"), ty("mug")]),
+            expect(
+                Assume,
+                Some("did(self,put(object4,object5))"),
+                "I am assuming you want me to put the plastic vase on the mug. I cannot put the fragile vase on the mug because it requires a forbidden state.",
+            ),
+        ),
+        case(
+            "form bindings may be listed in any order",
+            lab(),
+            norms(&[]),
+            form("put(X,Y)", &[("Y", &["object5"]), ("X", &["object3", "object4"])]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to put the fragile vase on the mug or that you want me to put the plastic vase on the mug?",
+            ),
+        ),
+    ]);
+}
+
+/// "an `assume` or `confirm` names the chosen reading first and then explains the others in this
+/// order": the chosen reading has the lowest score, the others follow by score.
+#[test]
+fn assume_names_the_chosen_reading_first_then_the_others_by_score() {
+    let d = run(
+        &form_scored(
+            "get(X)",
+            &[("X", &[("object3", 0.9), ("object4", 0.1), ("object5", 0.5)])],
+        ),
+        &lab(),
+        &norms(&[fs("did(self,get(object3))"), fs("did(self,get(object5))")]),
+    );
+    let failures = mismatches(
+        "assume by score",
+        &d,
+        &expect(
+            Assume,
+            Some("did(self,get(object4))"),
+            "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state. I cannot get the mug because it requires a forbidden state.",
+        )
+        .interps(vec![
+            interp(
+                "did(self,get(object3))",
+                "the fragile vase",
+                vec![(FS, "did(self,get(object3))", Some(1))],
+                &["get(object3)"],
+            ),
+            interp("did(self,get(object5))", "the mug", vec![(FS, "did(self,get(object5))", Some(2))], &["get(object5)"]),
+            interp("did(self,get(object4))", "the plastic vase", vec![], &["get(object4)"]),
+        ]),
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let scores: Vec<f64> = d.interpretations.iter().map(|i| i.score).collect();
+    assert_eq!(scores, vec![0.9, 0.5, 0.1]);
+}
