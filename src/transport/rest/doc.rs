@@ -87,3 +87,71 @@ pub fn vase_response() -> Value {
         "text": "Get the vase."
     })
 }
+
+/// The problem answers every operation of a kind can give, defined once so that none is left
+/// out of an operation that can return it.
+pub mod problems {
+    use std::collections::BTreeMap;
+
+    use utoipa::openapi::{ContentBuilder, Ref, RefOr, ResponseBuilder, response::Response};
+
+    use crate::error::PROBLEM_JSON;
+
+    fn problem(description: &str) -> RefOr<Response> {
+        let content = ContentBuilder::new()
+            .schema(Some(Ref::from_schema_name("Problem")))
+            .build();
+        ResponseBuilder::new()
+            .description(description)
+            .content(PROBLEM_JSON, content)
+            .build()
+            .into()
+    }
+
+    fn set(rows: &[(&str, &str)]) -> BTreeMap<String, RefOr<Response>> {
+        rows.iter()
+            .map(|(status, description)| ((*status).to_owned(), problem(description)))
+            .collect()
+    }
+
+    /// What reading a JSON body can end in (`rest::JsonBody`).
+    pub struct JsonBody;
+
+    impl utoipa::IntoResponses for JsonBody {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[
+                ("400", "The body is not JSON"),
+                ("408", "The body did not arrive whole within `--body-timeout-ms`"),
+                ("413", "The body is over the size limit"),
+                (
+                    "415",
+                    "The body is not sent as JSON, or in a Content-Encoding other than gzip",
+                ),
+            ])
+        }
+    }
+
+    /// What a write's token check can end in (`rest::Writer`).
+    pub struct WriteToken;
+
+    impl utoipa::IntoResponses for WriteToken {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[
+                ("401", "Tokens are configured and none was sent"),
+                ("403", "The token sent may not make this change"),
+            ])
+        }
+    }
+
+    /// What a read's token check can end in (`rest::Reader`).
+    pub struct ReadToken;
+
+    impl utoipa::IntoResponses for ReadToken {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[
+                ("401", "Reader tokens are configured and none was sent"),
+                ("403", "The token sent is not one this service knows"),
+            ])
+        }
+    }
+}

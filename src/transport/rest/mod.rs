@@ -268,9 +268,8 @@ async fn metrics(State(app): State<AppState>) -> Response {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The norms", body = Vec<NormDto>),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<NormDto>>, Error> {
     let norms = app.core.list_norms().await?;
@@ -285,15 +284,11 @@ async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<N
         (status = 201, description = "Stored, with its id; `Location` names it, `ETag` is its revision", body = NormDto,
          headers(("location" = String, description = "/v1/norms/{id}"), ("etag" = String, description = "The revision, quoted")),
          example = json!({"id": 2, "revision": 2, "kind": "forbidden_state", "state": "did(self,get(object3))", "when": [], "severity": 3, "note": "the fragile vase may not be got"})),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
-        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "6 is out of range 1..5", "field": "/severity"})),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
+        doc::problems::WriteToken,
     ))]
 async fn create_norm(
     State(app): State<AppState>,
@@ -314,10 +309,9 @@ async fn create_norm(
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The norm", body = NormDto, headers(("etag" = String, description = "The revision, quoted"))),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>) -> Result<Response, Error> {
     let norm = app.core.get_norm(norm_id(&id)?).await?;
@@ -336,16 +330,12 @@ async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>
     responses(
         (status = 200, description = "Replaced; the norm as stored, its new revision in `ETag`", body = NormDto,
          headers(("etag" = String, description = "The new revision, quoted"))),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
-        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
+        doc::problems::WriteToken,
     ))]
 async fn replace_norm(
     State(app): State<AppState>,
@@ -372,11 +362,10 @@ async fn replace_norm(
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
         (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was removed", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::WriteToken,
     ))]
 async fn delete_norm(
     State(app): State<AppState>,
@@ -396,9 +385,8 @@ async fn delete_norm(
     responses(
         (status = 200, description = "Every norm and the version they make up (also the `ETag`)", body = NormSetDto,
          headers(("etag" = String, description = "The norm-set version, quoted"))),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response, Error> {
     let (version, norms) = app.core.export_norms().await?;
@@ -418,15 +406,11 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
     responses(
         (status = 200, description = "Imported; the set as stored, its version in `ETag`", body = NormSetDto,
          headers(("etag" = String, description = "The new norm-set version, quoted"))),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change norms", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
         (status = 412, description = "The set has changed since the version in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
-        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
+        doc::problems::WriteToken,
     ))]
 async fn import_norms(
     State(app): State<AppState>,
@@ -485,10 +469,9 @@ impl AuditQuery {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "A page of entries", body = AuditPageDto),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "`after` or `limit` is not an integer, or `limit` is out of range; `field` names it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
     let query = AuditQuery::parse(request.uri().query().unwrap_or_default())?;
@@ -517,13 +500,10 @@ async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Resu
     request_body(content = ClarifyBody, example = json!(doc::vase_request())),
     responses(
         (status = 200, description = "The decision, its words and every reading considered", body = DecisionDto, example = json!(doc::vase_response())),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
-        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "no object `object9` in the scene", "field": "/directive/arguments/0/id"})),
         (status = 503, description = "The norms cannot be read: no decision is made (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
     ))]
 async fn clarify(
     State(app): State<AppState>,
@@ -559,12 +539,9 @@ async fn clarify(
     responses(
         (status = 200, description = "Each step's verdict, and whether all may be done", body = CheckDto,
          example = json!({"permitted": true, "steps": [{"step": "get(object4)", "permissible": true, "feasible": true, "reasons": [], "plan": ["get(object4)"]}], "utterance": "Okay.", "norm_version": 3})),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
-        (status = 413, description = "The body is over the size limit", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
     ))]
 async fn check(
     State(app): State<AppState>,
@@ -592,9 +569,8 @@ fn verb_name(text: &str) -> Result<&str, Error> {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The verbs", body = Vec<ActionInput>),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<ActionInput>>, Error> {
     Ok(Json(app.core.list_actions().await?))
@@ -607,10 +583,9 @@ async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec
     responses(
         (status = 200, description = "The verb", body = ActionInput,
          example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
-        (status = 401, description = "Reader tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent is not one this service knows", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::ReadToken,
     ))]
 async fn get_action(
     State(app): State<AppState>,
@@ -628,13 +603,10 @@ async fn get_action(
     responses(
         (status = 200, description = "Replaced; the verb as stored", body = ActionInput),
         (status = 201, description = "Added; the verb as stored", body = ActionInput),
-        (status = 400, description = "The body is not JSON", body = Problem, content_type = PROBLEM_JSON),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change the library", body = Problem, content_type = PROBLEM_JSON),
-        (status = 408, description = "The body did not arrive whole within `--body-timeout-ms`", body = Problem, content_type = PROBLEM_JSON),
-        (status = 415, description = "The body is not sent as JSON, or in a Content-Encoding other than gzip", body = Problem, content_type = PROBLEM_JSON),
         (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::JsonBody,
+        doc::problems::WriteToken,
     ))]
 async fn put_action(
     State(app): State<AppState>,
@@ -655,10 +627,9 @@ async fn put_action(
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 401, description = "Tokens are configured and none was sent", body = Problem, content_type = PROBLEM_JSON),
-        (status = 403, description = "The token sent may not change the library", body = Problem, content_type = PROBLEM_JSON),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::WriteToken,
     ))]
 async fn delete_action(
     State(app): State<AppState>,
