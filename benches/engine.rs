@@ -9,7 +9,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use scruple::api::{ClarifyBody, ClarifyInput};
+use scruple::api::ClarifyBody;
+use scruple::core::ClarifyInput;
 use scruple::engine::norms::{CompiledNorms, Norm};
 use scruple::engine::world::{Base, World};
 use scruple::engine::{Library, clarify};

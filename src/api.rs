@@ -10,6 +10,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::verb_name;
 use crate::engine::check::Check;
 use crate::engine::clarify::{
@@ -508,17 +509,6 @@ pub enum SinglePermissibleBody {
     Confirm,
 }
 
-/// A clarify request, valid and ready for the engine.
-#[derive(Debug)]
-pub struct ClarifyInput {
-    pub request: Request,
-    pub scene: Scene,
-    /// The human's words, echoed back for logs.
-    pub text: Option<String>,
-    /// How long the decision may take.
-    pub deadline: std::time::Duration,
-}
-
 pub const DEFAULT_DEADLINE_MS: u64 = 2_000;
 /// Default for `--max-objects`.
 pub const DEFAULT_MAX_OBJECTS: usize = 10_000;
@@ -553,32 +543,6 @@ impl Default for RequestLimits {
 /// A term from a request, parsed within the operator's limits.
 fn request_term(field: &str, text: &str, limits: &RequestLimits) -> Result<Term, Error> {
     Term::parse_within(text, limits.terms).map_err(|e| Error::invalid(field, format!("not a term: {e}")))
-}
-
-impl ClarifyInput {
-    /// The verb the directive names and its arity (a form's action), for its expansion cost.
-    pub fn verb(&self) -> (String, usize) {
-        match &self.request.directive {
-            Directive::Action { verb, arguments } => (verb.clone(), arguments.len()),
-            Directive::Form { action, .. } => {
-                (action.name().map(|n| n.to_string()).unwrap_or_default(), action.arity())
-            }
-        }
-    }
-
-    /// An upper bound on the readings this request can have, from its arguments' possible
-    /// candidates (every object for a reference, the bindings for a variable), before resolving.
-    pub fn at_most_readings(&self) -> u128 {
-        let objects = self.scene.objects.len() as u128;
-        match &self.request.directive {
-            Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, a| {
-                n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
-            }),
-            Directive::Form { bindings, .. } => bindings
-                .iter()
-                .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
-        }
-    }
 }
 
 /// A number option within its range, or an error naming it.
@@ -1195,18 +1159,6 @@ pub struct CheckOptionsBody {
 }
 
 pub const MAX_STEPS: usize = 1000;
-
-/// A check request, valid and ready for the engine.
-#[derive(Debug)]
-pub struct CheckInput {
-    pub scene: Scene,
-    pub steps: Vec<Term>,
-    pub context: String,
-    pub speaker_roles: Vec<String>,
-    pub style: Style,
-    /// How long the check may take, from the request's arrival.
-    pub deadline: std::time::Duration,
-}
 
 impl CheckInput {
     /// Validates a check request within `limits`.

@@ -8,16 +8,71 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 use std::time::{Duration, Instant};
 
-use crate::api::{CheckInput, ClarifyInput};
 use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, check};
 use crate::engine::clarify::clarify;
+use crate::engine::clarify::{Directive, Request};
 use crate::engine::decision::Decision;
+use crate::engine::decision::Style;
 use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
+use crate::engine::resolve::Reference;
+use crate::engine::scene::Scene;
+use crate::engine::term::Term;
 use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
+
+/// What a request hands to core: engine values, valid (the wire layer builds them and
+/// reports every fault with its field), and how long the answer may take.
+/// A clarify request, valid and ready for the engine.
+#[derive(Debug)]
+pub struct ClarifyInput {
+    pub request: Request,
+    pub scene: Scene,
+    /// The human's words, echoed back for logs.
+    pub text: Option<String>,
+    /// How long the decision may take.
+    pub deadline: std::time::Duration,
+}
+
+impl ClarifyInput {
+    /// The verb the directive names and its arity (a form's action), for its expansion cost.
+    pub fn verb(&self) -> (String, usize) {
+        match &self.request.directive {
+            Directive::Action { verb, arguments } => (verb.clone(), arguments.len()),
+            Directive::Form { action, .. } => {
+                (action.name().map(|n| n.to_string()).unwrap_or_default(), action.arity())
+            }
+        }
+    }
+
+    /// An upper bound on the readings this request can have, from its arguments' possible
+    /// candidates (every object for a reference, the bindings for a variable), before resolving.
+    pub fn at_most_readings(&self) -> u128 {
+        let objects = self.scene.objects.len() as u128;
+        match &self.request.directive {
+            Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, a| {
+                n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
+            }),
+            Directive::Form { bindings, .. } => bindings
+                .iter()
+                .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
+        }
+    }
+}
+
+/// A check request, valid and ready for the engine.
+#[derive(Debug)]
+pub struct CheckInput {
+    pub scene: Scene,
+    pub steps: Vec<Term>,
+    pub context: String,
+    pub speaker_roles: Vec<String>,
+    pub style: Style,
+    /// How long the check may take, from the request's arrival.
+    pub deadline: std::time::Duration,
+}
 
 /// Requests that may cost at most this many simulated steps (readings × the verb's expansion)
 /// are decided on the calling task (see `clarify`); the rest go to the blocking pool, so a

@@ -15,7 +15,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::api::{ClarifyBody, ClarifyInput, DecisionDto, NormBody, NormSetBody, RequestLimits, parse_json};
+use crate::api::{ClarifyBody, DecisionDto, NormBody, NormSetBody, RequestLimits, parse_json};
+use crate::core::ClarifyInput;
 use crate::core::validate_norm_set;
 use crate::engine::norms::{CompiledNorms, Norm, NormSpec};
 use crate::engine::{Library, clarify};

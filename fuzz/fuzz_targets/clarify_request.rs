@@ -12,7 +12,8 @@ use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 
 use libfuzzer_sys::fuzz_target;
-use scruple::api::{ClarifyBody, ClarifyInput, DecisionDto, parse_json};
+use scruple::api::{ClarifyBody, DecisionDto, parse_json};
+use scruple::core::ClarifyInput;
 use scruple::engine::action::{ActionInput, Library};
 use scruple::engine::clarify;
 use scruple::engine::norms::{CompiledNorms, Norm, NormInput};
@@ -98,14 +99,17 @@ fn library_with(verbs: &serde_json::Map<String, serde_json::Value>) -> Library {
 }
 
 fuzz_target!(|bytes: &[u8]| {
-    let defined = serde_json::from_slice::<serde_json::Value>(bytes)
-        .ok()
-        .and_then(|v| match (v.get("verbs"), v.get("request")) {
+    let defined = serde_json::from_slice::<serde_json::Value>(bytes).ok().and_then(|v| {
+        match (v.get("verbs"), v.get("request")) {
             (Some(serde_json::Value::Object(verbs)), Some(request)) => Some((verbs.clone(), request.clone())),
             _ => None,
-        });
+        }
+    });
     let (library, body) = match &defined {
-        Some((verbs, request)) => (Some(library_with(verbs)), serde_json::to_vec(request).unwrap_or_default()),
+        Some((verbs, request)) => (
+            Some(library_with(verbs)),
+            serde_json::to_vec(request).unwrap_or_default(),
+        ),
         None => (None, bytes.to_vec()),
     };
     let library = library.as_ref().unwrap_or(&LIBRARY);

@@ -10,9 +10,10 @@ mod convert;
 use tonic::{Request, Response, Status};
 
 use crate::api::{
-    AuditEntryDto, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DEFAULT_AUDIT_PAGE, DecisionDto,
-    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetDto,
+    AuditEntryDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE, NormBody,
+    NormDto, NormSetDto,
 };
+use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::ActionInput;
 use crate::error::Error;
 use crate::transport::auth::Access;

@@ -17,9 +17,10 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use crate::api::{
-    AuditEntryDto, AuditPageDto, CheckBody, CheckDto, CheckInput, ClarifyBody, ClarifyInput, DEFAULT_AUDIT_PAGE,
-    DecisionDto, MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
+    AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE,
+    NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
 };
+use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::auth::Access;
