@@ -80,10 +80,9 @@ impl ActionDef {
 }
 
 /// A verb as a curator writes it, as the API carries it and as the store keeps it: terms as
-/// text. (Its schema derive documents the wire shape; it adds no behaviour.)
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, utoipa::ToSchema)]
+/// text. (Its schema, for the API's document, is `api::ActionSchema`.)
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-#[schema(as = Action)]
 pub struct ActionInput {
     /// The verb's name; when sent, it must equal the name it is stored as (the request's path).
     #[serde(default)]
@@ -104,9 +103,8 @@ pub struct ActionInput {
 }
 
 /// One way of carrying a verb out. Terms are written over the verb's parameters.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, utoipa::ToSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-#[schema(as = Method)]
 pub struct MethodInput {
     /// Action terms, and the word `itself` for the verb's own execution; default `["itself"]`,
     /// and `itself` is appended when not listed.

@@ -17,8 +17,8 @@ use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
 use crate::api::{
-    AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE,
-    NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
+    ActionSchema, AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto,
+    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
 };
 use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::ActionInput;
@@ -569,7 +569,7 @@ fn verb_name(text: &str) -> Result<&str, Error> {
     summary = "Every verb of the action library, by name",
     security((), ("token" = [])),
     responses(
-        (status = 200, description = "The verbs", body = Vec<ActionInput>),
+        (status = 200, description = "The verbs", body = Vec<ActionSchema>),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::ReadToken,
     ))]
@@ -582,7 +582,7 @@ async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec
     security((), ("token" = [])),
     params(("name" = String, Path, description = "The verb, e.g. `put`")),
     responses(
-        (status = 200, description = "The verb", body = ActionInput,
+        (status = 200, description = "The verb", body = ActionSchema,
          example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
         (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
@@ -599,11 +599,11 @@ async fn get_action(
 #[utoipa::path(put, path = "/v1/actions/{name}", tag = "actions",
     summary = "Add or replace a verb; nothing is stored unless it is valid and its steps do not loop",
     params(("name" = String, Path, description = "The verb, e.g. `open`")),
-    request_body(content = ActionInput, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
+    request_body(content = ActionSchema, example = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "preconditions": ["closed(X)"], "adds": ["open(X)"], "removes": ["closed(X)"]}]})),
     security((), ("token" = [])),
     responses(
-        (status = 200, description = "Replaced; the verb as stored", body = ActionInput),
-        (status = 201, description = "Added; the verb as stored", body = ActionInput),
+        (status = 200, description = "Replaced; the verb as stored", body = ActionSchema),
+        (status = 201, description = "Added; the verb as stored", body = ActionSchema),
         (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
         (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::JsonBody,
