@@ -89,7 +89,9 @@ fn the_engine_names_nothing_of_the_crate_outside_itself_nor_a_web_db_async_or_sc
         let outside: Vec<String> = named(text).into_iter().filter(|n| n != "engine").collect();
         assert!(outside.is_empty(), "src/{relative} names crate::{outside:?}");
         let code = code(text);
-        for forbidden in ["axum::", "tonic::", "prost::", "hyper::", "sqlx::", "tokio::", "utoipa::"] {
+        for forbidden in [
+            "axum::", "tonic::", "prost::", "hyper::", "sqlx::", "tokio::", "utoipa::",
+        ] {
             assert!(!code.contains(forbidden), "src/{relative} names {forbidden}");
         }
     }
