@@ -23,9 +23,8 @@ use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
-/// What a request hands to core: engine values, valid (the wire layer builds them and
+/// A clarify request as core takes it: engine values, valid (the wire layer builds them and
 /// reports every fault with its field), and how long the answer may take.
-/// A clarify request, valid and ready for the engine.
 #[derive(Debug)]
 pub struct ClarifyInput {
     pub request: Request,
@@ -38,12 +37,10 @@ pub struct ClarifyInput {
 
 impl ClarifyInput {
     /// The verb the directive names and its arity (a form's action), for its expansion cost.
-    pub fn verb(&self) -> (String, usize) {
+    pub fn verb(&self) -> (&str, usize) {
         match &self.request.directive {
-            Directive::Action { verb, arguments } => (verb.clone(), arguments.len()),
-            Directive::Form { action, .. } => {
-                (action.name().map(|n| n.to_string()).unwrap_or_default(), action.arity())
-            }
+            Directive::Action { verb, arguments } => (verb, arguments.len()),
+            Directive::Form { action, .. } => (action.name().map_or("", |n| &**n), action.arity()),
         }
     }
 
@@ -62,7 +59,7 @@ impl ClarifyInput {
     }
 }
 
-/// A check request, valid and ready for the engine.
+/// A check request as core takes it, likewise.
 #[derive(Debug)]
 pub struct CheckInput {
     pub scene: Scene,
@@ -298,7 +295,7 @@ impl Core {
         let (verb, arity) = input.verb();
         let steps = input
             .at_most_readings()
-            .saturating_mul(u128::from(library.expansion(&verb, arity)));
+            .saturating_mul(u128::from(library.expansion(verb, arity)));
         let small = steps <= INLINE_STEPS;
         let turn = if small {
             None

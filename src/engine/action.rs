@@ -355,6 +355,9 @@ pub struct Library {
     defs: HashMap<(Sym, usize), ActionDef>,
     /// The stored version this library was loaded from (0 for the built-in one).
     pub version: i64,
+    /// Each verb's expansion cost, worked out once on first use (a request asks it for its
+    /// verb); emptied by every insert.
+    costs: std::sync::OnceLock<HashMap<(Sym, usize), u64>>,
 }
 
 fn term(text: &str) -> Term {
@@ -366,6 +369,7 @@ impl Library {
     /// library (a plan that never ends).
     pub fn insert(&mut self, def: ActionDef) -> Result<(), ActionError> {
         let key = (def.name.clone(), def.params.len());
+        self.costs = std::sync::OnceLock::new();
         let previous = self.defs.insert(key.clone(), def);
         if let Some(cycle) = self.cycle_through(&key) {
             match previous {
@@ -415,35 +419,41 @@ impl Library {
     }
 
     /// The steps one reading of `name/arity` may cost (see [`MAX_EXPANSION`]), saturating; an
-    /// unknown verb costs one step (it is found unknown). The library has no cycles.
+    /// unknown verb costs one step (it is found unknown).
     pub fn expansion(&self, name: &str, arity: usize) -> u64 {
-        self.expansion_with(&(Sym::from(name), arity), &mut HashMap::new())
+        self.costs().get(&(Sym::from(name), arity)).copied().unwrap_or(1)
     }
 
-    fn expansion_with(&self, key: &(Sym, usize), memo: &mut HashMap<(Sym, usize), u64>) -> u64 {
-        if let Some(&cost) = memo.get(key) {
+    /// Every verb's cost. The library has no cycles, so each is the sum over its methods' steps
+    /// of the costs of the verbs they call, worked out callees first.
+    fn costs(&self) -> &HashMap<(Sym, usize), u64> {
+        self.costs.get_or_init(|| {
+            let mut costs = HashMap::with_capacity(self.defs.len());
+            for key in self.defs.keys() {
+                self.cost_into(key, &mut costs);
+            }
+            costs
+        })
+    }
+
+    fn cost_into(&self, key: &(Sym, usize), costs: &mut HashMap<(Sym, usize), u64>) -> u64 {
+        if let Some(&cost) = costs.get(key) {
             return cost;
         }
         let Some(def) = self.defs.get(key) else { return 1 };
-        let cost = def
-            .methods
-            .iter()
-            .map(|m| self.method_expansion(m, memo))
+        let cost = (def.methods.iter())
+            .map(|m| self.method_cost(m, &mut |callee| self.cost_into(callee, costs)))
             .fold(0u64, u64::saturating_add);
-        memo.insert(key.clone(), cost);
+        costs.insert(key.clone(), cost);
         cost
     }
 
-    fn method_expansion(&self, method: &Method, memo: &mut HashMap<(Sym, usize), u64>) -> u64 {
-        method
-            .steps
-            .iter()
+    /// A method's cost: one step for `itself`, each called verb at its own cost.
+    fn method_cost(&self, method: &Method, callee: &mut dyn FnMut(&(Sym, usize)) -> u64) -> u64 {
+        (method.steps.iter())
             .map(|step| match step {
                 Step::Itself => 1,
-                Step::Do(t) => match t.name() {
-                    Some(n) => self.expansion_with(&(n.clone(), t.arity()), memo),
-                    None => 1,
-                },
+                Step::Do(t) => t.name().map_or(1, |n| callee(&(n.clone(), t.arity()))),
             })
             .fold(0u64, u64::saturating_add)
     }
@@ -452,18 +462,15 @@ impl Library {
     /// the verb and the costliest of its methods. `first` (the verb being stored) is looked at
     /// before the verbs that call it, which then cost more still.
     pub fn check_expansion(&self, first: &str) -> Result<(), (String, ActionError)> {
-        let mut memo = HashMap::new();
+        let costs = self.costs();
+        let known = |key: &(Sym, usize)| costs.get(key).copied().unwrap_or(1);
         let mut verbs = self.verbs();
         verbs.sort_by_key(|d| &*d.name != first);
         for def in verbs {
-            let key = (def.name.clone(), def.params.len());
-            let cost = self.expansion_with(&key, &mut memo);
+            let cost = known(&(def.name.clone(), def.params.len()));
             if cost > MAX_EXPANSION {
-                let (worst, worst_cost) = def
-                    .methods
-                    .iter()
-                    .enumerate()
-                    .map(|(i, m)| (i, self.method_expansion(m, &mut memo)))
+                let (worst, worst_cost) = (def.methods.iter().enumerate())
+                    .map(|(i, m)| (i, self.method_cost(m, &mut |k| known(k))))
                     .fold((0, 0), |best, (i, c)| if c > best.1 { (i, c) } else { best });
                 return Err((
                     def.name.to_string(),

@@ -200,7 +200,7 @@ struct Run<'a> {
 impl Run<'_> {
     fn stop(&mut self) {
         self.stopped = true;
-        self.push(Reason::infeasible(Cause::Unfinished));
+        self.push(Reason::unfinished());
     }
 
     fn push(&mut self, reason: Reason) {
