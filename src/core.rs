@@ -245,13 +245,7 @@ impl Core {
             }
         };
         // Waiting for a connection is overload, never "norms unavailable".
-        let unavailable = |e: crate::storage::StoreError| {
-            if e.busy {
-                Error::Overloaded { retry_after_s: 1 }
-            } else {
-                Error::NormsUnavailable(e.detail)
-            }
-        };
+        let unavailable = |e: crate::storage::StoreError| e.answer(Error::NormsUnavailable);
         let versions = self.store.versions().await.map_err(unavailable)?;
         let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
             Some(norms) => {

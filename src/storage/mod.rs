@@ -54,15 +54,22 @@ impl StoreError {
     }
 }
 
-impl From<StoreError> for crate::error::Error {
-    /// A store that cannot answer a curator: unavailable, or overloaded when only a connection
-    /// was wanting.
-    fn from(e: StoreError) -> Self {
-        if e.busy {
+impl StoreError {
+    /// The failure as the service answers it: overload when only a connection was wanting (the
+    /// store is healthy), else `unavailable` with the detail.
+    pub fn answer(self, unavailable: fn(String) -> crate::error::Error) -> crate::error::Error {
+        if self.busy {
             crate::error::Error::Overloaded { retry_after_s: 1 }
         } else {
-            crate::error::Error::StoreUnavailable(e.detail)
+            unavailable(self.detail)
         }
+    }
+}
+
+impl From<StoreError> for crate::error::Error {
+    /// A store that cannot answer a curator.
+    fn from(e: StoreError) -> Self {
+        e.answer(crate::error::Error::StoreUnavailable)
     }
 }
 
