@@ -9,11 +9,12 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use scruple::api::ClarifyBody;
-use scruple::core::ClarifyInput;
+use scruple::engine::input::RequestLimits;
 use scruple::engine::norms::{CompiledNorms, Norm};
+use scruple::engine::request::{Checked, Request};
 use scruple::engine::world::{Base, World};
 use scruple::engine::{Library, clarify};
+use scruple::wire::ClarifyBody;
 use serde_json::{Value, json};
 
 fn paper() -> Value {
@@ -21,9 +22,9 @@ fn paper() -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).expect("../shared/scenarios/paper-demo.json")).unwrap()
 }
 
-fn input(body: Value) -> ClarifyInput {
+fn input(body: Value) -> Checked {
     let body: ClarifyBody = serde_json::from_value(body).unwrap();
-    ClarifyInput::try_from(body).unwrap()
+    Request::from_input(body.into(), &RequestLimits::default()).unwrap()
 }
 
 fn compile(norms: &[Value]) -> CompiledNorms {
@@ -31,7 +32,7 @@ fn compile(norms: &[Value]) -> CompiledNorms {
         .iter()
         .enumerate()
         .map(|(i, n)| {
-            let body: scruple::api::NormBody = serde_json::from_value(n.clone()).unwrap();
+            let body: scruple::wire::NormBody = serde_json::from_value(n.clone()).unwrap();
             Norm {
                 id: i as i64 + 1,
                 revision: 0,

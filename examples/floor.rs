@@ -7,9 +7,9 @@
 
 use axum::routing::post;
 use axum::{Json, Router};
-use scruple::api::{ClarifyBody, DecisionDto, InterpretationDto, ReasonDto};
 use scruple::transport::grpc::pb;
 use scruple::transport::grpc::pb::clarifier_server::{Clarifier, ClarifierServer};
+use scruple::wire::{ClarifyBody, DecisionDto, InterpretationDto, ReasonDto};
 use tonic::{Request, Response, Status};
 
 /// Answers every Clarify with the same decision, after decoding the request.

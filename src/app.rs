@@ -13,8 +13,8 @@ use axum::http::HeaderName;
 use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetRequestIdLayer};
 use tower_http::trace::TraceLayer;
 
-use crate::api::RequestLimits;
 use crate::core::Core;
+use crate::core::{RequestLimits, Settings};
 use crate::error::Error;
 use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
@@ -121,12 +121,17 @@ impl Application {
         let store = storage::open(&config.database_url).await?;
         let metrics = Arc::new(Metrics::new());
         let state = AppState {
-            core: Arc::new(Core::new(store, metrics.clone())),
+            core: Arc::new(Core::new(
+                store,
+                metrics.clone(),
+                Settings {
+                    limits: config.limits,
+                    log_utterances: config.log_utterances,
+                },
+            )),
             tokens: Arc::new(tokens),
             max_body_bytes: config.max_body_bytes,
-            limits: config.limits,
             metrics: metrics.clone(),
-            log_utterances: config.log_utterances,
         };
         let listener = TcpListener::bind(&config.listen)
             .await

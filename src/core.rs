@@ -1,8 +1,10 @@
 //! The one internal API every transport calls: norms in and out of the store, and decisions made
 //! under the current norm set.
 //!
-//! Owns: the caches of compiled norms and of the action library (each refreshed only when its
-//! stored version moves) and failing closed when either cannot be read. Must not: parse wire formats or know which transport asked.
+//! Owns: the request limits, the deadline, the decision log, the knowledge a decision is made
+//! under (the store's, cached and refreshed only when a stored version moves, or fixed for the
+//! offline CLI) and failing closed when it cannot be read. Must not: know a wire format or which
+//! transport (or command) asked.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
@@ -10,65 +12,62 @@ use std::time::{Duration, Instant};
 
 use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
-use crate::engine::check::{Check, check};
+use crate::engine::check::{Check, CheckInput, CheckRequest, check};
 use crate::engine::clarify::clarify;
-use crate::engine::clarify::{Directive, Request};
 use crate::engine::decision::Decision;
-use crate::engine::decision::Style;
+pub use crate::engine::input::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
 use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
+use crate::engine::request::{Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
-use crate::engine::term::Term;
 use crate::error::Error;
 use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
-/// A clarify request as core takes it: engine values, valid (the wire layer builds them and
-/// reports every fault with its field), and how long the answer may take.
-#[derive(Debug)]
-pub struct ClarifyInput {
-    pub request: Request,
-    pub scene: Scene,
-    /// The human's words, echoed back for logs.
-    pub text: Option<String>,
-    /// How long the decision may take.
-    pub deadline: std::time::Duration,
+/// What one request may ask, and whether the human's words may be logged.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Settings {
+    pub limits: RequestLimits,
+    /// Whether the human's words, the speaker and the robot's answer may be logged (off by
+    /// default: they are personal data).
+    pub log_utterances: bool,
 }
 
-impl ClarifyInput {
-    /// The verb the directive names and its arity (a form's action), for its expansion cost.
-    pub fn verb(&self) -> (&str, usize) {
-        match &self.request.directive {
-            Directive::Action { verb, arguments } => (verb, arguments.len()),
-            Directive::Form { action, .. } => (action.name().map_or("", |n| &**n), action.arity()),
-        }
-    }
+/// What decisions are made under: one compiled norm set and one action library.
+#[derive(Clone, Debug)]
+pub struct Knowledge {
+    pub norms: Arc<CompiledNorms>,
+    pub library: Arc<Library>,
+}
 
-    /// An upper bound on the readings this request can have, from its arguments' possible
-    /// candidates (every object for a reference, the bindings for a variable), before resolving.
-    pub fn at_most_readings(&self) -> u128 {
-        let objects = self.scene.objects.len() as u128;
-        match &self.request.directive {
-            Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, a| {
-                n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
-            }),
-            Directive::Form { bindings, .. } => bindings
-                .iter()
-                .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
-        }
+/// Where a core's norms and verbs come from.
+enum Source {
+    /// The store, re-read whenever its stored versions move (by any process sharing it).
+    Store(Arc<dyn NormStore>),
+    /// Fixed for the core's life: the offline CLI's, from a store read once or from files.
+    Fixed(Knowledge),
+}
+
+/// The verb a directive names and its arity (a form's action), for its expansion cost.
+fn verb_of(directive: &Directive) -> (&str, usize) {
+    match directive {
+        Directive::Action { verb, arguments } => (verb, arguments.len()),
+        Directive::Form { action, .. } => (action.name().map_or("", |n| &**n), action.arity()),
     }
 }
 
-/// A check request as core takes it, likewise.
-#[derive(Debug)]
-pub struct CheckInput {
-    pub scene: Scene,
-    pub steps: Vec<Term>,
-    pub context: String,
-    pub speaker_roles: Vec<String>,
-    pub style: Style,
-    /// How long the check may take, from the request's arrival.
-    pub deadline: std::time::Duration,
+/// An upper bound on the readings a directive can have, from its arguments' possible
+/// candidates (every object for a reference, the bindings for a variable), before resolving.
+fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
+    let objects = scene.objects.len() as u128;
+    match directive {
+        Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, a| {
+            n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
+        }),
+        Directive::Form { bindings, .. } => bindings
+            .iter()
+            .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
+    }
 }
 
 /// Requests that may cost at most this many simulated steps (readings × the verb's expansion)
@@ -128,7 +127,8 @@ struct Readiness {
 }
 
 pub struct Core {
-    store: Arc<dyn NormStore>,
+    source: Source,
+    settings: Settings,
     metrics: Arc<Metrics>,
     /// What readiness reports: never a read of its own, so a probe answers at once under load.
     readiness: std::sync::Mutex<Option<Readiness>>,
@@ -159,9 +159,21 @@ fn cached<T>(slot: &RwLock<Option<Arc<T>>>, version: i64, of: impl Fn(&T) -> i64
 }
 
 impl Core {
-    pub fn new(store: Arc<dyn NormStore>, metrics: Arc<Metrics>) -> Core {
+    /// A core over the store: what it decides under is what the store holds now.
+    pub fn new(store: Arc<dyn NormStore>, metrics: Arc<Metrics>, settings: Settings) -> Core {
+        Core::over(Source::Store(store), metrics, settings)
+    }
+
+    /// A core over fixed norms and verbs (the offline CLI's): it decides as a server holding
+    /// them would, and has no store to curate.
+    pub fn fixed(knowledge: Knowledge, settings: Settings) -> Core {
+        Core::over(Source::Fixed(knowledge), Arc::new(Metrics::default()), settings)
+    }
+
+    fn over(source: Source, metrics: Arc<Metrics>, settings: Settings) -> Core {
         Core {
-            store,
+            source,
+            settings,
             metrics,
             compiled: RwLock::new(None),
             library: RwLock::new(None),
@@ -199,7 +211,7 @@ impl Core {
         }
     }
 
-    fn note_readiness(&self, outcome: &Result<(Arc<CompiledNorms>, Arc<Library>), Error>) {
+    fn note_readiness(&self, outcome: &Result<Knowledge, Error>) {
         // A read that could not get a connection in time says nothing about the store.
         if matches!(outcome, Err(Error::Overloaded { .. })) {
             return;
@@ -217,13 +229,13 @@ impl Core {
 
     /// The norms and the verbs in force now: one versions read per call; a reload only of what
     /// another write (from this process or any other sharing the store) has changed.
-    async fn knowledge(&self) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+    pub async fn knowledge(&self) -> Result<Knowledge, Error> {
         self.knowledge_for(Some(&self.metrics)).await
     }
 
     /// The knowledge, if it can be had before `deadline`; a store too busy to answer by then is
     /// overload (503 with Retry-After), so a decision is never answered late for want of it.
-    async fn knowledge_by(&self, deadline: Instant) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+    async fn knowledge_by(&self, deadline: Instant) -> Result<Knowledge, Error> {
         // A little past the deadline, so that a request whose deadline is (nearly) spent still
         // gets its answer with `limits` when the store is quick, as it is unless overloaded.
         tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), self.knowledge())
@@ -232,21 +244,25 @@ impl Core {
     }
 
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
-    async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+    async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
         let outcome = self.read_knowledge(metrics).await;
         self.note_readiness(&outcome);
         outcome
     }
 
-    async fn read_knowledge(&self, metrics: Option<&Metrics>) -> Result<(Arc<CompiledNorms>, Arc<Library>), Error> {
+    async fn read_knowledge(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
         let count = |cache, outcome| {
             if let Some(m) = metrics {
                 m.cache(cache, outcome);
             }
         };
+        let store = match &self.source {
+            Source::Fixed(knowledge) => return Ok(knowledge.clone()),
+            Source::Store(store) => store,
+        };
         // Waiting for a connection is overload, never "norms unavailable".
         let unavailable = |e: crate::storage::StoreError| e.answer(Error::NormsUnavailable);
-        let versions = self.store.versions().await.map_err(unavailable)?;
+        let versions = store.versions().await.map_err(unavailable)?;
         let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
             Some(norms) => {
                 count(Cache::Norms, Outcome::Hit);
@@ -254,7 +270,7 @@ impl Core {
             }
             None => {
                 count(Cache::Norms, Outcome::Refresh);
-                let (version, norms) = self.store.load().await.map_err(unavailable)?;
+                let (version, norms) = store.load().await.map_err(unavailable)?;
                 let fresh = Arc::new(CompiledNorms::compile(version, norms));
                 keep_newer(&self.compiled, &fresh, |c| c.version)?;
                 fresh
@@ -267,7 +283,7 @@ impl Core {
             }
             None => {
                 count(Cache::Library, Outcome::Refresh);
-                let (version, verbs) = self.store.load_actions().await.map_err(unavailable)?;
+                let (version, verbs) = store.load_actions().await.map_err(unavailable)?;
                 let fresh = Library::from_written(version, &verbs).map_err(|(name, e)| {
                     Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
                 })?;
@@ -276,31 +292,48 @@ impl Core {
                 fresh
             }
         };
-        Ok((norms, library))
+        Ok(Knowledge { norms, library })
     }
 
-    /// Decides what to say about a directive. Fails closed: without readable norms, no decision.
-    /// The engine runs on the blocking pool, so a large request does not stall other requests;
-    /// its deadline counts from here.
-    pub async fn clarify(&self, input: ClarifyInput, arrived: Instant) -> Result<Decision, Error> {
-        let deadline = arrived + input.deadline;
+    /// The store, for curation; a core over fixed knowledge has none.
+    fn store(&self) -> Result<&dyn NormStore, Error> {
+        match &self.source {
+            Source::Store(store) => Ok(store.as_ref()),
+            Source::Fixed(_) => Err(Error::Internal(
+                "norms and verbs are fixed here: there is no store to change".to_owned(),
+            )),
+        }
+    }
+
+    /// Decides what to say about a directive: checks it within the request limits, reads the
+    /// norms and verbs in force (fails closed: without them, no decision), simulates within the
+    /// deadline counted from `arrived`, and logs the decision. `text`, the human's words, is
+    /// logged only when the settings allow. A costly request runs on the blocking pool, so it
+    /// does not stall other requests.
+    pub async fn clarify(&self, input: RequestInput, text: Option<&str>, arrived: Instant) -> Result<Decision, Error> {
+        let Checked {
+            request,
+            scene,
+            deadline,
+        } = Request::from_input(input, &self.settings.limits)?;
+        let deadline = arrived + deadline;
         let (_guard, expired) = stop_signal(deadline);
-        let (norms, library) = self.knowledge_by(deadline).await?;
-        let (verb, arity) = input.verb();
-        let steps = input
-            .at_most_readings()
-            .saturating_mul(u128::from(library.expansion(verb, arity)));
+        let Knowledge { norms, library } = self.knowledge_by(deadline).await?;
+        let (verb, arity) = verb_of(&request.directive);
+        let steps =
+            at_most_readings(&request.directive, &scene).saturating_mul(u128::from(library.expansion(verb, arity)));
         let small = steps <= INLINE_STEPS;
         let turn = if small {
             None
         } else {
             Some(self.costly_turn(deadline).await?)
         };
+        let speaker = request.speaker.clone();
         let metrics = self.metrics.clone();
         let decide = move || {
             let _turn = turn;
             let _running = InFlight::new(&metrics);
-            clarify(&input.request, &input.scene, &norms, &library, &expired)
+            clarify(&request, &scene, &norms, &library, &expired)
         };
         // A small request (most are) is decided in microseconds: handing it to another thread
         // would cost more than the decision. Large ones go to the blocking pool.
@@ -316,7 +349,19 @@ impl Core {
         };
         self.metrics.decisions.get_or_create(&kind).inc();
         self.metrics.readings.observe(decision.interpretations.len() as f64);
+        self.log(&decision, text, &speaker);
         Ok(decision)
+    }
+
+    /// The decision log: its kind and size always, the words only when the settings allow.
+    fn log(&self, decision: &Decision, text: Option<&str>, speaker: &str) {
+        let kind = decision.kind.as_str();
+        let readings = decision.interpretations.len();
+        if self.settings.log_utterances {
+            tracing::debug!(decision = kind, readings, text, speaker, utterance = %decision.utterance, "decided");
+        } else {
+            tracing::debug!(decision = kind, readings, "decided");
+        }
     }
 
     /// A turn to run a costly simulation: at most one per core at once, so that each finishes
@@ -336,9 +381,10 @@ impl Core {
 
     /// Checks steps while acting, under the norms in force now. Fails closed like `clarify`.
     pub async fn check(&self, input: CheckInput, arrived: Instant) -> Result<Check, Error> {
+        let input = CheckRequest::from_input(input, &self.settings.limits)?;
         let deadline = arrived + input.deadline;
         let (_guard, expired) = stop_signal(deadline);
-        let (norms, library) = self.knowledge_by(deadline).await?;
+        let Knowledge { norms, library } = self.knowledge_by(deadline).await?;
         let steps: u128 = (input.steps.iter())
             .map(|s| u128::from(library.expansion(s.name().map_or("", |n| &**n), s.arity())))
             .sum();
@@ -371,16 +417,16 @@ impl Core {
 
     /// Validates and stores a norm; nothing is written unless every field is valid.
     pub async fn create_norm(&self, input: NormInput, actor: &str) -> Result<Norm, Error> {
-        let spec = input.validate().map_err(|e| Error::invalid(e.field, e.message))?;
-        Ok(self.store.create(&spec, actor).await?)
+        let spec = input.validate()?;
+        Ok(self.store()?.create(&spec, actor).await?)
     }
 
     pub async fn list_norms(&self) -> Result<Vec<Norm>, Error> {
-        Ok(self.store.load().await?.1)
+        Ok(self.store()?.load().await?.1)
     }
 
     pub async fn get_norm(&self, id: i64) -> Result<Norm, Error> {
-        self.store.get(id).await?.ok_or_else(|| not_found(id))
+        self.store()?.get(id).await?.ok_or_else(|| not_found(id))
     }
 
     /// Replaces a norm's content (its id stays) when `expected` is its revision, or always
@@ -392,17 +438,17 @@ impl Core {
         expected: Option<i64>,
         actor: &str,
     ) -> Result<Norm, Error> {
-        let spec = input.validate().map_err(|e| Error::invalid(e.field, e.message))?;
-        written(id, expected, self.store.replace(id, &spec, expected, actor).await?)
+        let spec = input.validate()?;
+        written(id, expected, self.store()?.replace(id, &spec, expected, actor).await?)
     }
 
     pub async fn delete_norm(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<(), Error> {
-        written(id, expected, self.store.delete(id, expected, actor).await?)
+        written(id, expected, self.store()?.delete(id, expected, actor).await?)
     }
 
     /// The whole norm set and its version, for backups and review.
     pub async fn export_norms(&self) -> Result<(i64, Vec<Norm>), Error> {
-        Ok(self.store.load().await?)
+        Ok(self.store()?.load().await?)
     }
 
     /// Replaces the whole norm set in one transaction when `expected` is the set's version (or
@@ -416,7 +462,7 @@ impl Core {
         actor: &str,
     ) -> Result<(i64, Vec<Norm>), Error> {
         let norms = validate_norm_set(inputs)?;
-        match self.store.import(&norms, expected, actor).await? {
+        match self.store()?.import(&norms, expected, actor).await? {
             Write::Done(set) => Ok(set),
             Write::Missing => Err(Error::Internal("the norm set row is missing".to_owned())),
             Write::Stale { current } => Err(Error::Stale {
@@ -429,17 +475,17 @@ impl Core {
 
     /// Up to `limit` audit entries after entry `after`, oldest first.
     pub async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, Error> {
-        Ok(self.store.audit(after, limit).await?)
+        Ok(self.store()?.audit(after, limit).await?)
     }
 
     /// Every verb, by name, as written.
     pub async fn list_actions(&self) -> Result<Vec<ActionInput>, Error> {
-        let (_, library) = self.knowledge().await?;
+        let Knowledge { library, .. } = self.knowledge().await?;
         Ok(library.verbs().into_iter().map(ActionDef::to_input).collect())
     }
 
     pub async fn get_action(&self, name: &str) -> Result<ActionInput, Error> {
-        let (_, library) = self.knowledge().await?;
+        let Knowledge { library, .. } = self.knowledge().await?;
         library
             .verbs()
             .into_iter()
@@ -453,7 +499,7 @@ impl Core {
     /// Adds or replaces a verb; returns it as stored and whether it is new. Nothing is written
     /// unless the verb is valid and the library it makes has no loop through its steps.
     pub async fn put_action(&self, name: &str, input: ActionInput, actor: &str) -> Result<(ActionInput, bool), Error> {
-        let def = input.validate(name).map_err(|e| Error::invalid(e.field, e.message))?;
+        let def = input.validate(name)?;
         let written = def.to_input();
         let this = name.to_owned();
         let accept = move |all: &[StoredAction]| {
@@ -466,12 +512,12 @@ impl Core {
                     Error::invalid(field, format!("{}: {}", verb, e.message))
                 })
         };
-        let created = self.store.put_action(name, &written, &accept, actor).await??;
+        let created = self.store()?.put_action(name, &written, &accept, actor).await??;
         Ok((written, created))
     }
 
     pub async fn delete_action(&self, name: &str, actor: &str) -> Result<(), Error> {
-        if self.store.delete_action(name, actor).await? {
+        if self.store()?.delete_action(name, actor).await? {
             Ok(())
         } else {
             Err(Error::NotFound {

@@ -8,6 +8,7 @@
 use serde::Serialize;
 
 use crate::engine::clarify::EngineError;
+use crate::engine::input::Invalid;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -165,6 +166,16 @@ impl Error {
         match row.log {
             Log::Error => tracing::error!(error = %self, "request failed"),
             Log::Debug => tracing::debug!(problem = row.slug, field = row.field.as_deref(), "request rejected"),
+        }
+    }
+}
+
+/// A constructor's fault is a 422 naming the field.
+impl From<Invalid> for Error {
+    fn from(e: Invalid) -> Self {
+        Error::Invalid {
+            field: e.field,
+            detail: e.message,
         }
     }
 }

@@ -9,8 +9,8 @@ use std::time::Duration;
 
 use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
-use scruple::api::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
 use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
+use scruple::core::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
 use scruple::offline::{self, Failure, Sources, Summary};
 use scruple::transport::admission::{
@@ -102,14 +102,18 @@ struct ReplayArgs {
 async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
     let sources = Sources::open(args.sources.database_url.as_deref()).await?;
     let knowledge = sources.knowledge(args.sources.norms.as_deref()).await?;
-    let answer = offline::clarify_file(&args.file, &knowledge)?;
+    let answer = offline::clarify_file(&args.file, knowledge).await?;
     let text = serde_json::to_string_pretty(&answer).map_err(|e| Failure::Run { detail: e.to_string() })?;
     println!("{text}");
     Ok(())
 }
 
 /// Runs a replay, with a counter on stderr when a person is watching.
-fn replay_with_progress(lines: &[offline::Line], knowledge: &offline::Knowledge, label: &str) -> Vec<offline::Answer> {
+async fn replay_with_progress(
+    lines: &[offline::Line],
+    knowledge: offline::Knowledge,
+    label: &str,
+) -> Vec<offline::Answer> {
     let total = lines.len();
     let watching = std::io::stderr().is_terminal();
     // About a hundred updates however long the batch: a terminal is slow to redraw.
@@ -119,7 +123,7 @@ fn replay_with_progress(lines: &[offline::Line], knowledge: &offline::Knowledge,
             eprint!("\r{label}: {done}/{total}");
         }
     };
-    let answers = offline::replay(lines, knowledge, &progress);
+    let answers = offline::replay(lines, knowledge, &progress).await;
     if watching && total > 0 {
         eprintln!();
     }
@@ -138,11 +142,11 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
     let bytes = offline::read_input(&args.file)?;
     let lines = offline::parse_lines(&bytes);
     let proposed = sources.knowledge(args.sources.norms.as_deref()).await?;
-    let answers = replay_with_progress(&lines, &proposed, "replayed");
+    let answers = replay_with_progress(&lines, proposed, "replayed").await;
     let summary = Summary::of(&answers);
     if args.diff {
         let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
-        let before = replay_with_progress(&lines, &baseline, "baseline");
+        let before = replay_with_progress(&lines, baseline, "baseline").await;
         let changes = offline::diff(&before, &answers);
         print!("{}", offline::diff_report(&changes, answers.len()));
         if !summary.errors.is_empty() {

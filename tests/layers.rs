@@ -100,8 +100,8 @@ fn the_engine_names_nothing_of_the_crate_outside_itself_nor_a_web_db_async_or_sc
 #[test]
 fn core_storage_error_and_metrics_name_no_wire_transport_app_or_offline() {
     let graph = graph();
-    let outer = ["api", "transport", "app", "offline", "main"];
-    for module in ["core", "storage", "error", "metrics"] {
+    let outer = ["wire", "transport", "app", "offline", "main"];
+    for module in ["engine", "core", "storage", "error", "metrics"] {
         let names = graph.get(module).cloned().unwrap_or_default();
         let wrong: Vec<&String> = names.iter().filter(|n| outer.contains(&n.as_str())).collect();
         assert!(wrong.is_empty(), "{module} names {wrong:?}");
@@ -157,5 +157,65 @@ fn the_error_table_has_no_catch_all_arm() {
         let pattern = pattern.trim();
         let bare = !pattern.is_empty() && pattern.chars().all(|c| c.is_ascii_lowercase() || c == '_');
         assert!(!bare, "a catch-all arm in Error::row: {arm}");
+    }
+}
+
+#[test]
+fn no_file_under_src_is_over_700_lines() {
+    let mut all = Vec::new();
+    files(&src(), &mut all);
+    let long: Vec<String> = all
+        .iter()
+        .filter(|(_, text)| text.lines().count() > 700)
+        .map(|(relative, text)| format!("src/{relative}: {} lines", text.lines().count()))
+        .collect();
+    assert!(long.is_empty(), "files over 700 lines: {long:?}");
+}
+
+/// The engine's functions that decide or simulate: only core calls them.
+const DECIDING: [&str; 4] = ["clarify", "check", "algorithm", "simulate"];
+
+#[test]
+fn the_offline_commands_decide_through_core_and_call_no_engine_decision_function() {
+    let mut all = Vec::new();
+    files(&src().join("offline"), &mut all);
+    assert!(!all.is_empty(), "the offline commands were found");
+    let mut through_core = false;
+    for (relative, text) in &all {
+        let code = code(text);
+        // Every path into the engine, `use` lists included: none may reach a deciding function.
+        let mut rest = code.as_str();
+        while let Some(i) = rest.find("engine::") {
+            rest = &rest[i + "engine::".len()..];
+            let path: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || "_:{}, ".contains(*c))
+                .collect();
+            for name in DECIDING {
+                let named = path
+                    .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                    .any(|word| word == name);
+                assert!(!named, "src/{relative} reaches the engine's `{name}`: engine::{path}");
+            }
+        }
+        through_core |= code.contains("Core::fixed") && code.contains(".clarify(");
+    }
+    assert!(
+        through_core,
+        "the offline commands decide with Core::fixed(..).clarify(..)"
+    );
+}
+
+#[test]
+fn the_transports_call_core_for_decisions_not_the_engine() {
+    let mut all = Vec::new();
+    files(&src().join("transport"), &mut all);
+    for (relative, text) in &all {
+        let code = code(text);
+        for name in DECIDING {
+            for call in [format!("engine::{name}::"), format!("engine::{name}(")] {
+                assert!(!code.contains(&call), "src/{relative} calls the engine's {name} itself");
+            }
+        }
     }
 }

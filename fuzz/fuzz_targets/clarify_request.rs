@@ -1,5 +1,5 @@
-//! Fuzzes `POST /v1/clarify` below HTTP: body bytes through the REST decoding, the boundary
-//! validation, the engine and the response body, as the handler chains them. An input may also
+//! Fuzzes `POST /v1/clarify` below HTTP: body bytes through the JSON decoding, the engine's
+//! constructors, the engine and the response body, as core chains them. An input may also
 //! define verbs first, `{"verbs": {"name": VERB, ...}, "request": BODY}`: each is stored as
 //! `PUT /v1/actions/{name}` would store it (refused when invalid, looping or over the expansion
 //! bound), so that expansion is fuzzed too; any other input is the body itself.
@@ -12,11 +12,12 @@ use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 
 use libfuzzer_sys::fuzz_target;
-use scruple::api::{ClarifyBody, DecisionDto, parse_json};
-use scruple::core::ClarifyInput;
 use scruple::engine::action::{ActionInput, Library};
 use scruple::engine::clarify;
+use scruple::engine::input::RequestLimits;
 use scruple::engine::norms::{CompiledNorms, Norm, NormInput};
+use scruple::engine::request::Request;
+use scruple::wire::{ClarifyBody, DecisionDto, parse_json};
 
 /// The longest one decision may take here, whatever the body asks: a body cannot slow the
 /// fuzzer down by asking for the service's full 60 s.
@@ -116,13 +117,13 @@ fuzz_target!(|bytes: &[u8]| {
     let Ok(body) = parse_json::<ClarifyBody>(&body) else {
         return;
     };
-    let Ok(mut input) = ClarifyInput::try_from(body) else {
+    let text = body.directive.text.clone();
+    let Ok(input) = Request::from_input(body.into(), &RequestLimits::default()) else {
         return;
     };
     let started = Instant::now();
     let deadline = started + input.deadline.min(DEADLINE_CAP);
     let expired = || Instant::now() >= deadline;
-    let text = input.text.take();
     let Ok(decision) = clarify(&input.request, &input.scene, &NORMS, library, &expired) else {
         return;
     };

@@ -8,6 +8,7 @@ use std::collections::{HashMap, HashSet};
 
 use serde::{Deserialize, Serialize};
 
+use super::input::Invalid;
 use super::term::{Subst, Sym, Term, is_constant_name};
 
 /// One step of a method's plan.
@@ -80,7 +81,7 @@ impl ActionDef {
 }
 
 /// A verb as a curator writes it, as the API carries it and as the store keeps it: terms as
-/// text. (Its schema, for the API's document, is `api::ActionSchema`.)
+/// text. (Its schema, for the API's document, is `wire::ActionSchema`.)
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ActionInput {
@@ -130,21 +131,6 @@ pub struct MethodInput {
     pub removes: Vec<String>,
 }
 
-/// What is wrong with a verb, and where: `field` is a JSON Pointer relative to the verb.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{field}: {message}")]
-pub struct ActionError {
-    pub field: String,
-    pub message: String,
-}
-
-fn action_error(field: impl Into<String>, message: impl Into<String>) -> ActionError {
-    ActionError {
-        field: field.into(),
-        message: message.into(),
-    }
-}
-
 /// Longest verb name, bytes: the same bound wherever a verb is named (a stored verb, a
 /// directive's action, a form, a step), so that any verb a request can name can be defined.
 pub const MAX_VERB_LEN: usize = 64;
@@ -171,41 +157,41 @@ pub const MAX_ITEMS: usize = 32;
 
 impl ActionInput {
     /// Validates every field; the verb is named by the caller (the path of the request).
-    pub fn validate(&self, name: &str) -> Result<ActionDef, ActionError> {
+    pub fn validate(&self, name: &str) -> Result<ActionDef, Invalid> {
         if let Some(given) = &self.name
             && given != name
         {
-            return Err(action_error(
+            return Err(Invalid::new(
                 "/name",
                 format!("`{given}` differs from the verb `{name}` it is stored as"),
             ));
         }
-        verb_name(name).map_err(|m| action_error("/name", m))?;
+        verb_name(name).map_err(|m| Invalid::new("/name", m))?;
         if self.parameters.len() > 8 {
-            return Err(action_error("/parameters", "at most 8 parameters"));
+            return Err(Invalid::new("/parameters", "at most 8 parameters"));
         }
         let mut params: Vec<Sym> = Vec::new();
         for (i, p) in self.parameters.iter().enumerate() {
             let field = format!("/parameters/{i}");
-            let term = Term::parse(p).map_err(|e| action_error(&field, format!("not a variable: {e}")))?;
+            let term = Term::parse(p).map_err(|e| Invalid::new(&field, format!("not a variable: {e}")))?;
             let Term::Var(v) = term else {
-                return Err(action_error(
+                return Err(Invalid::new(
                     field,
                     format!("`{p}` is not a variable (upper-case first, or `?`)"),
                 ));
             };
             if params.contains(&v) {
-                return Err(action_error(field, format!("`{v}` is listed twice")));
+                return Err(Invalid::new(field, format!("`{v}` is listed twice")));
             }
             params.push(v);
         }
         if let Some(joiner) = &self.joiner
             && (joiner.is_empty() || joiner.len() > 32 || !joiner.chars().all(|c| c.is_ascii_lowercase() || c == ' '))
         {
-            return Err(action_error("/joiner", "a short lower-case word, like `on` or `to`"));
+            return Err(Invalid::new("/joiner", "a short lower-case word, like `on` or `to`"));
         }
         if self.methods.is_empty() || self.methods.len() > MAX_METHODS {
-            return Err(action_error("/methods", format!("give 1 to {MAX_METHODS} methods")));
+            return Err(Invalid::new("/methods", format!("give 1 to {MAX_METHODS} methods")));
         }
         let methods = self
             .methods
@@ -214,7 +200,7 @@ impl ActionInput {
             .map(|(i, m)| m.validate(&format!("/methods/{i}"), name, &params))
             .collect::<Result<_, _>>()?;
         if self.distinct && params.len() < 2 {
-            return Err(action_error("/distinct", "`distinct` needs two or more parameters"));
+            return Err(Invalid::new("/distinct", "`distinct` needs two or more parameters"));
         }
         Ok(ActionDef {
             name: Sym::from(name),
@@ -227,31 +213,31 @@ impl ActionInput {
 }
 
 impl MethodInput {
-    fn validate(&self, at: &str, verb: &str, params: &[Sym]) -> Result<Method, ActionError> {
-        let known = |field: &str, term: &Term| -> Result<(), ActionError> {
+    fn validate(&self, at: &str, verb: &str, params: &[Sym]) -> Result<Method, Invalid> {
+        let known = |field: &str, term: &Term| -> Result<(), Invalid> {
             match term.variables().into_iter().find(|v| !params.contains(v)) {
-                Some(v) => Err(action_error(field, format!("`{v}` is not a parameter of the verb"))),
+                Some(v) => Err(Invalid::new(field, format!("`{v}` is not a parameter of the verb"))),
                 None => Ok(()),
             }
         };
-        let terms = |name: &str, list: &[String]| -> Result<Vec<Term>, ActionError> {
+        let terms = |name: &str, list: &[String]| -> Result<Vec<Term>, Invalid> {
             if list.len() > MAX_ITEMS {
-                return Err(action_error(format!("{at}/{name}"), format!("at most {MAX_ITEMS}")));
+                return Err(Invalid::new(format!("{at}/{name}"), format!("at most {MAX_ITEMS}")));
             }
             list.iter()
                 .enumerate()
                 .map(|(i, text)| {
                     let field = format!("{at}/{name}/{i}");
-                    let term = Term::parse(text).map_err(|e| action_error(&field, format!("not a term: {e}")))?;
+                    let term = Term::parse(text).map_err(|e| Invalid::new(&field, format!("not a term: {e}")))?;
                     if term.is_var() {
-                        return Err(action_error(field, "must start with a name, not a variable"));
+                        return Err(Invalid::new(field, "must start with a name, not a variable"));
                     }
                     known(&field, &term)?;
                     Ok(term)
                 })
                 .collect()
         };
-        let parameter_list = |name: &str, list: &[String]| -> Result<Vec<Sym>, ActionError> {
+        let parameter_list = |name: &str, list: &[String]| -> Result<Vec<Sym>, Invalid> {
             list.iter()
                 .enumerate()
                 .map(|(i, text)| {
@@ -260,7 +246,7 @@ impl MethodInput {
                         .iter()
                         .find(|p| &***p == text.trim())
                         .cloned()
-                        .ok_or_else(|| action_error(field, format!("`{text}` is not a parameter of the verb")))
+                        .ok_or_else(|| Invalid::new(field, format!("`{text}` is not a parameter of the verb")))
                 })
                 .collect()
         };
@@ -270,19 +256,19 @@ impl MethodInput {
             let field = format!("{at}/steps/{i}");
             if text.trim() == "itself" {
                 if itself {
-                    return Err(action_error(field, "`itself` may appear once"));
+                    return Err(Invalid::new(field, "`itself` may appear once"));
                 }
                 itself = true;
                 steps.push(Step::Itself);
                 continue;
             }
-            let term = Term::parse(text).map_err(|e| action_error(&field, format!("not a term: {e}")))?;
+            let term = Term::parse(text).map_err(|e| Invalid::new(&field, format!("not a term: {e}")))?;
             if term.is_var() {
-                return Err(action_error(field, "a step names an action, not a variable"));
+                return Err(Invalid::new(field, "a step names an action, not a variable"));
             }
             known(&field, &term)?;
             if term.name().is_some_and(|n| &**n == verb) && term.arity() == params.len() {
-                return Err(action_error(field, format!("`{verb}` cannot be a step of itself")));
+                return Err(Invalid::new(field, format!("`{verb}` cannot be a step of itself")));
             }
             steps.push(Step::Do(term));
         }
@@ -295,7 +281,7 @@ impl MethodInput {
                 let both = parameter_list("place", pair)?;
                 Some((both[0].clone(), both[1].clone()))
             }
-            Some(_) => return Err(action_error(format!("{at}/place"), "give [item, support]")),
+            Some(_) => return Err(Invalid::new(format!("{at}/place"), "give [item, support]")),
         };
         Ok(Method {
             reach: parameter_list("reach", &self.reach)?,
@@ -367,7 +353,7 @@ fn term(text: &str) -> Term {
 impl Library {
     /// Adds or replaces a verb, refusing one whose steps would call it again through the
     /// library (a plan that never ends).
-    pub fn insert(&mut self, def: ActionDef) -> Result<(), ActionError> {
+    pub fn insert(&mut self, def: ActionDef) -> Result<(), Invalid> {
         let key = (def.name.clone(), def.params.len());
         self.costs = std::sync::OnceLock::new();
         let previous = self.defs.insert(key.clone(), def);
@@ -376,7 +362,7 @@ impl Library {
                 Some(p) => self.defs.insert(key, p),
                 None => self.defs.remove(&key),
             };
-            return Err(action_error(
+            return Err(Invalid::new(
                 "/methods",
                 format!("the steps call back into the verb: {cycle}"),
             ));
@@ -406,7 +392,7 @@ impl Library {
 
     /// A library from verbs as written (the store's rows), each validated under its own name,
     /// and refused whole if any is invalid or the steps loop.
-    pub fn from_written(version: i64, verbs: &[(String, ActionInput)]) -> Result<Library, (String, ActionError)> {
+    pub fn from_written(version: i64, verbs: &[(String, ActionInput)]) -> Result<Library, (String, Invalid)> {
         let mut library = Library {
             version,
             ..Library::default()
@@ -461,7 +447,7 @@ impl Library {
     /// Refuses a library in which some verb expands past [`MAX_EXPANSION`] steps: the error names
     /// the verb and the costliest of its methods. `first` (the verb being stored) is looked at
     /// before the verbs that call it, which then cost more still.
-    pub fn check_expansion(&self, first: &str) -> Result<(), (String, ActionError)> {
+    pub fn check_expansion(&self, first: &str) -> Result<(), (String, Invalid)> {
         let costs = self.costs();
         let known = |key: &(Sym, usize)| costs.get(key).copied().unwrap_or(1);
         let mut verbs = self.verbs();
@@ -474,7 +460,7 @@ impl Library {
                     .fold((0, 0), |best, (i, c)| if c > best.1 { (i, c) } else { best });
                 return Err((
                     def.name.to_string(),
-                    action_error(
+                    Invalid::new(
                         format!("/methods/{worst}"),
                         format!(
                             "a reading of `{}` would expand to {cost} steps (this method {worst_cost}); at most {MAX_EXPANSION} are allowed",

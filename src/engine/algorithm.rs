@@ -5,8 +5,9 @@
 //! assume, confirm or obey a reading that is impermissible or infeasible under the moral
 //! strategy, simulate anything, or word anything.
 
-use super::clarify::{FEW, Options, SinglePermissible, Strategy};
+use super::clarify::FEW;
 use super::decision::{DecisionKind, Interpretation, Plan};
+use super::request::{Options, SinglePermissible, Strategy};
 use super::resolve::Slot;
 
 /// The nouns of the slots whose value differs among `readings` ("which notebook").

@@ -1,19 +1,84 @@
 //! Checks while acting: the next step, or the rest of a plan, against the norms in force now.
 //!
-//! Owns: simulating given steps in order in one private world, each starting where the last
-//! left off. Must not: resolve references or choose among readings; the steps are ground.
+//! Owns: a check request's constructor (ground steps naming verbs, the scope, the style) and
+//! simulating the steps in order in one private world, each starting where the last left off.
+//! Must not: resolve references or choose among readings; the steps are ground.
 
 use std::sync::Arc;
+use std::time::Duration;
 
-use super::action::Library;
+use super::action::{Library, verb_name};
 use super::decision::{LimitKind, Limits, Style};
 use super::describe::Describer;
+use super::input::{Invalid, RequestLimits};
 use super::norms::{CompiledNorms, Scope};
-use super::scene::Scene;
+use super::request::{context_of, speaker_roles_of};
+use super::scene::{Scene, SceneInput};
 use super::simulate::{Env, Outcome, Reason, simulate_from};
 use super::speech;
 use super::term::Term;
 use super::world::{Base, World};
+
+/// Most steps one check may carry.
+pub const MAX_STEPS: usize = 1000;
+
+/// A check as a client sent it, before anything is checked.
+#[derive(Clone, Debug)]
+pub struct CheckInput {
+    pub scene: SceneInput,
+    pub steps: Vec<String>,
+    pub context: Option<String>,
+    pub speaker_roles: Option<Vec<String>>,
+    pub style: Option<Style>,
+    pub deadline_ms: Option<u64>,
+}
+
+/// A check request, valid: ground steps that name verbs, in a scene, under a scope.
+#[derive(Debug)]
+pub struct CheckRequest {
+    pub scene: Scene,
+    pub steps: Vec<Term>,
+    pub context: String,
+    pub speaker_roles: Vec<String>,
+    pub style: Style,
+    /// How long the check may take, from the request's arrival.
+    pub deadline: Duration,
+}
+
+impl CheckRequest {
+    /// Checks every member within the operator's limits; the first fault is reported with its
+    /// field, as the request's JSON names it.
+    pub fn from_input(input: CheckInput, limits: &RequestLimits) -> Result<CheckRequest, Invalid> {
+        let context = context_of(input.context)?;
+        let speaker_roles = speaker_roles_of(input.speaker_roles)?;
+        let scene = Scene::from_input(input.scene, limits).map_err(|e| e.within("/scene"))?;
+        if input.steps.is_empty() || input.steps.len() > MAX_STEPS {
+            return Err(Invalid::new("/steps", format!("give 1 to {MAX_STEPS} steps")));
+        }
+        let steps = (input.steps.iter().enumerate())
+            .map(|(i, text)| {
+                let field = format!("/steps/{i}");
+                let step = Term::parse_within(text, limits.terms)
+                    .map_err(|e| Invalid::new(&field, format!("not a term: {e}")))?;
+                if step.is_var() || !step.is_ground() {
+                    return Err(Invalid::new(field, "a step is a ground action, such as get(object4)"));
+                }
+                if let Some(name) = step.name() {
+                    verb_name(name).map_err(|m| Invalid::new(&field, m))?;
+                }
+                Ok(step)
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(CheckRequest {
+            scene,
+            steps,
+            context,
+            speaker_roles,
+            style: input.style.unwrap_or_default(),
+            deadline: limits.deadline(input.deadline_ms)?,
+        })
+    }
+}
 
 /// One step, simulated.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 //! the references, `resolve`; build and order the readings; simulate them; choose, `algorithm`;
 //! word it, `speech`).
 //!
-//! Owns: the request's types, the readings' order, the caps on how many are simulated, and the
+//! Owns: the readings' order, the caps on how many are simulated, and the
 //! deadline between stages. Must not: do I/O or read a clock (the deadline arrives as a
 //! callback), or offer, assume, confirm or obey a reading that is impermissible or infeasible
 //! under the moral strategy.
@@ -17,17 +17,15 @@ use super::algorithm::{decide, plan_kind};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
-use super::resolve::{Candidate, Reference};
+use super::request::{Answer, Request};
+use super::resolve::Reference;
 use super::resolve::{Narrowed, combinations, slots};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, did, simulate};
 use super::speech;
-use super::term::{Sym, Term};
+use super::term::Term;
 use super::world::{Base, World};
 
-/// Defaults of the options that bound a request's work and words.
-pub const DEFAULT_MAX_SPOKEN: usize = 5;
-pub const DEFAULT_MAX_READINGS: usize = 10_000;
 /// How many of the likeliest readings are named when there are too many to name them all.
 pub const FEW: usize = 3;
 /// From this many readings on, simulation runs on rayon's pool: a reading costs about 8 µs
@@ -37,84 +35,6 @@ pub const PARALLEL_FROM: usize = 64;
 const PARALLEL_BATCH: usize = 512;
 /// Readings described between two looks at the deadline.
 const PREPARE_BATCH: usize = 1024;
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Strategy {
-    /// The paper's algorithm: simulate first, then ask only about what may be done.
-    #[default]
-    Moral,
-    /// The status quo the paper argues against: ask about every candidate before moral reasoning.
-    Reflexive,
-}
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SinglePermissible {
-    #[default]
-    Assume,
-    Confirm,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    pub strategy: Strategy,
-    pub single_permissible: SinglePermissible,
-    pub style: Style,
-    /// Most readings a question names; above it the question names the few likeliest and ends
-    /// "or something else", or names the ambiguous words.
-    pub max_spoken: usize,
-    /// Most readings simulated; above it nothing is simulated and the ambiguous words are named.
-    pub max_readings: usize,
-    /// When exactly one reading is acceptable and the share of the others is above this ratio,
-    /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
-    pub confirm_above_ratio: Option<f64>,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            strategy: Strategy::Moral,
-            single_permissible: SinglePermissible::Assume,
-            style: Style::Diarc,
-            max_spoken: DEFAULT_MAX_SPOKEN,
-            max_readings: DEFAULT_MAX_READINGS,
-            confirm_above_ratio: None,
-        }
-    }
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub enum Directive {
-    /// A verb and one reference per argument; readings are every combination of candidates.
-    Action { verb: String, arguments: Vec<Reference> },
-    /// An action with variables, already unwrapped from `want(S,did(self,...))` by the caller
-    /// (`get(X)`), and each variable's candidates, in the order the variables first appear.
-    Form {
-        action: Term,
-        bindings: Vec<(Sym, Vec<Candidate>)>,
-    },
-}
-
-/// The human's answer to a question the robot asked, sent with the original request.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Answer {
-    /// The position (from 0) of a reading among those the question named (`offered`).
-    Choice(usize),
-    /// An object of the scene: keeps the readings that involve it.
-    Id(String),
-    /// "the red one": keeps the readings with an argument that matches.
-    Reference(Reference),
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Request {
-    pub speaker: Sym,
-    /// The speaker's roles (`owner`): with the context, they select the norms in force.
-    pub speaker_roles: Vec<String>,
-    pub directive: Directive,
-    pub context: String,
-    pub options: Options,
-    pub answer: Option<Answer>,
-}
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EngineError {

@@ -3,17 +3,30 @@
 //! Owns: the types Algorithm 1 (`clarify`) produces and the words (`speech`) render, so that
 //! neither has to import the other for them. Must not: decide or word anything itself.
 
+use super::input::Spelled;
 use super::simulate::Outcome;
 use super::term::Term;
 
 /// How the robot phrases its answer.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Style {
     /// The paper's exact words (the default).
     #[default]
     Diarc,
     /// Fluent English; refusals are gentler for mild norms and firmer for grave ones.
     Natural,
+}
+
+impl Spelled for Style {
+    const ALL: &'static [Style] = &[Style::Diarc, Style::Natural];
+
+    fn as_str(self) -> &'static str {
+        match self {
+            Style::Diarc => "diarc",
+            Style::Natural => "natural",
+        }
+    }
 }
 
 /// What to say, by reading index into the interpretations (in the contract's order).

@@ -6,6 +6,7 @@
 
 use rustc_hash::FxHashMap;
 
+use super::input::{Invalid, Spelled};
 use super::term::{Subst, Sym, Term};
 use super::world::World;
 
@@ -15,19 +16,13 @@ pub enum NormKind {
     ForbiddenState,
 }
 
-impl NormKind {
-    pub fn as_str(self) -> &'static str {
+impl Spelled for NormKind {
+    const ALL: &'static [NormKind] = &[NormKind::ForbiddenAction, NormKind::ForbiddenState];
+
+    fn as_str(self) -> &'static str {
         match self {
             NormKind::ForbiddenAction => "forbidden_action",
             NormKind::ForbiddenState => "forbidden_state",
-        }
-    }
-
-    pub fn parse(text: &str) -> Option<NormKind> {
-        match text {
-            "forbidden_action" => Some(NormKind::ForbiddenAction),
-            "forbidden_state" => Some(NormKind::ForbiddenState),
-            _ => None,
         }
     }
 }
@@ -116,26 +111,11 @@ pub struct NormInput {
     pub exempt_roles: Option<Vec<String>>,
 }
 
-/// What is wrong with a norm, and where: `field` is a JSON Pointer relative to the norm.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{field}: {message}")]
-pub struct NormError {
-    pub field: String,
-    pub message: String,
-}
-
-fn norm_error(field: impl Into<String>, message: impl Into<String>) -> NormError {
-    NormError {
-        field: field.into(),
-        message: message.into(),
-    }
-}
-
 /// A literal must name a fact or an action: a bare variable would match anything.
-fn parse_literal(field: &str, text: &str, what: &str) -> Result<Term, NormError> {
-    let term = Term::parse(text).map_err(|e| norm_error(field, format!("not a term: {e}")))?;
+fn parse_literal(field: &str, text: &str, what: &str) -> Result<Term, Invalid> {
+    let term = Term::parse(text).map_err(|e| Invalid::new(field, format!("not a term: {e}")))?;
     if term.is_var() {
-        return Err(norm_error(
+        return Err(Invalid::new(
             field,
             format!("{what} must start with a name, not a variable"),
         ));
@@ -145,12 +125,12 @@ fn parse_literal(field: &str, text: &str, what: &str) -> Result<Term, NormError>
 
 impl NormInput {
     /// Validates every field; the first fault found is reported, nothing is half-accepted.
-    pub fn validate(self) -> Result<NormSpec, NormError> {
+    pub fn validate(self) -> Result<NormSpec, Invalid> {
         let kind_text = self
             .kind
-            .ok_or_else(|| norm_error("/kind", "missing; one of forbidden_action, forbidden_state"))?;
+            .ok_or_else(|| Invalid::new("/kind", "missing; one of forbidden_action, forbidden_state"))?;
         let kind = NormKind::parse(&kind_text).ok_or_else(|| {
-            norm_error(
+            Invalid::new(
                 "/kind",
                 format!("unknown kind `{kind_text}`; one of forbidden_action, forbidden_state"),
             )
@@ -158,38 +138,38 @@ impl NormInput {
         let term = match kind {
             NormKind::ForbiddenAction => {
                 if self.state.is_some() {
-                    return Err(norm_error(
+                    return Err(Invalid::new(
                         "/state",
                         "a forbidden_action norm has `action`, not `state`",
                     ));
                 }
                 let text = self
                     .action
-                    .ok_or_else(|| norm_error("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
+                    .ok_or_else(|| Invalid::new("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
                 let action = parse_literal("/action", &text, "an action")?;
                 // A norm on a verb no library can hold applies nowhere, and its words would be
                 // empty ("_ is forbidden action").
                 if let Some(name) = action.name() {
-                    super::action::verb_name(name).map_err(|m| norm_error("/action", m))?;
+                    super::action::verb_name(name).map_err(|m| Invalid::new("/action", m))?;
                 }
                 action
             }
             NormKind::ForbiddenState => {
                 if self.action.is_some() {
-                    return Err(norm_error(
+                    return Err(Invalid::new(
                         "/action",
                         "a forbidden_state norm has `state`, not `action`",
                     ));
                 }
                 let text = self
                     .state
-                    .ok_or_else(|| norm_error("/state", "missing; e.g. \"holding(self,X)\""))?;
+                    .ok_or_else(|| Invalid::new("/state", "missing; e.g. \"holding(self,X)\""))?;
                 parse_literal("/state", &text, "a state")?
             }
         };
         let when_texts = self.when.unwrap_or_default();
         if when_texts.len() > MAX_WHEN {
-            return Err(norm_error("/when", format!("at most {MAX_WHEN} conditions")));
+            return Err(Invalid::new("/when", format!("at most {MAX_WHEN} conditions")));
         }
         let when = when_texts
             .iter()
@@ -200,7 +180,7 @@ impl NormInput {
         if let Some(context) = &context
             && (context.is_empty() || context.len() > MAX_CONTEXT_LEN)
         {
-            return Err(norm_error(
+            return Err(Invalid::new(
                 "/context",
                 format!("must be 1 to {MAX_CONTEXT_LEN} bytes long"),
             ));
@@ -208,17 +188,17 @@ impl NormInput {
         let severity = match self.severity {
             None => DEFAULT_SEVERITY,
             Some(s @ 1..=5) => s as u8,
-            Some(s) => return Err(norm_error("/severity", format!("{s} is out of range 1..5"))),
+            Some(s) => return Err(Invalid::new("/severity", format!("{s} is out of range 1..5"))),
         };
         if let Some(note) = &self.note
             && note.len() > MAX_NOTE_LEN
         {
-            return Err(norm_error("/note", format!("at most {MAX_NOTE_LEN} bytes")));
+            return Err(Invalid::new("/note", format!("at most {MAX_NOTE_LEN} bytes")));
         }
         let roles = validate_roles("/roles", self.roles)?;
         let exempt_roles = validate_roles("/exempt_roles", self.exempt_roles)?;
         if let Some(both) = roles.iter().find(|r| exempt_roles.contains(r)) {
-            return Err(norm_error(
+            return Err(Invalid::new(
                 "/exempt_roles",
                 format!("`{both}` is both a role the norm applies to and one it exempts"),
             ));
@@ -240,10 +220,10 @@ pub const MAX_ROLES: usize = 16;
 
 /// Role names are short words: letters, digits, `_`, `-`; at most [`MAX_ROLES`] of them. Used
 /// for a norm's roles and for a request's speaker roles alike.
-pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, NormError> {
+pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, Invalid> {
     let given = roles.unwrap_or_default();
     if given.len() > MAX_ROLES {
-        return Err(norm_error(field, format!("at most {MAX_ROLES} roles")));
+        return Err(Invalid::new(field, format!("at most {MAX_ROLES} roles")));
     }
     // Normalised as contexts are; a role named twice (perhaps in two spellings) counts once.
     let mut roles: Vec<String> = Vec::with_capacity(given.len());
@@ -253,7 +233,7 @@ pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<Str
             && role.len() <= MAX_CONTEXT_LEN
             && role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         if !valid {
-            return Err(norm_error(
+            return Err(Invalid::new(
                 format!("{field}/{i}"),
                 format!("`{text}` is not a role name (letters, digits, `_`, `-`)"),
             ));

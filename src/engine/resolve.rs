@@ -1,12 +1,13 @@
 //! Reference resolution: which objects of the scene each argument (or variable) may mean, and
 //! the readings their combinations make.
 //!
-//! Owns: matching references against objects, the slots of a directive and their candidates,
+//! Owns: a reference's constructor (checked against the scene), matching references against objects, the slots of a directive and their candidates,
 //! and the readings a follow-up answer keeps. Must not: simulate, decide or word anything.
 
 use std::collections::BTreeMap;
 
-use super::clarify::{Answer, Directive};
+use super::input::{Invalid, constant};
+use super::request::{Answer, Directive};
 use super::scene::{Object, Scene, spoken};
 use super::term::{Subst, Sym, Term};
 
@@ -22,7 +23,48 @@ pub enum Reference {
     },
 }
 
+/// A reference as a request gives it, before it is checked: `id`, or a description; attribute
+/// values already as text.
+#[derive(Clone, Debug, Default)]
+pub struct ReferenceInput {
+    pub id: Option<String>,
+    pub kind: Option<String>,
+    pub attributes: Option<BTreeMap<String, String>>,
+    pub properties: Option<Vec<String>>,
+}
+
 impl Reference {
+    /// A reference by id must name an object of the scene; a description needs at least one of
+    /// its parts. Fields named relative to the reference.
+    pub fn from_input(input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
+        if let Some(id) = input.id {
+            if input.kind.is_some() || input.attributes.is_some() || input.properties.is_some() {
+                return Err(Invalid::new(
+                    "",
+                    "a reference gives either `id` or `type` (with attributes and properties), not both",
+                ));
+            }
+            if scene.object(&id).is_none() {
+                return Err(Invalid::new("/id", format!("no object `{id}` in the scene")));
+            }
+            return Ok(Reference::Id(id));
+        }
+        if input.kind.is_none() && input.attributes.is_none() && input.properties.is_none() {
+            return Err(Invalid::new(
+                "",
+                "a reference needs `id`, or `type` with optional attributes and properties",
+            ));
+        }
+        if let Some(kind) = &input.kind {
+            constant("/type", kind, "a type")?;
+        }
+        Ok(Reference::Described {
+            kind: input.kind,
+            attributes: input.attributes.unwrap_or_default(),
+            properties: input.properties.unwrap_or_default(),
+        })
+    }
+
     pub(super) fn matches(&self, object: &Object) -> bool {
         match self {
             Reference::Id(id) => &object.id == id,

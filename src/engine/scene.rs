@@ -1,7 +1,8 @@
 //! The scene a request carries: the agent, the objects with their geometry, and extra facts.
 //!
-//! Owns: the validated scene model, the facts each object yields, and reach (a parry3d distance
-//! query). Must not: parse JSON or know about norms; a `Scene` is valid by construction.
+//! Owns: the validated scene model and its constructor (`Scene::from_input`, every fault named by
+//! its field), the facts each object yields, and reach (a parry3d distance query). Must not:
+//! parse JSON or know about norms; a `Scene` that exists is valid.
 
 use std::collections::BTreeMap;
 
@@ -15,6 +16,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, SharedShape};
 
+use super::input::{Invalid, RequestLimits, constant, finite, pointer_segment, positive};
 use super::term::Term;
 
 /// The robot itself.
@@ -82,9 +84,180 @@ pub struct Scene {
     bvh: OnceLock<(Bvh, Vec<usize>)>,
 }
 
+/// The agent as a request describes it, before it is checked.
+#[derive(Clone, Debug)]
+pub struct AgentInput {
+    /// Absent: `self`.
+    pub id: Option<String>,
+    pub position: [f64; 3],
+    pub reach: f64,
+    pub gripper_aperture: Option<f64>,
+    pub payload: Option<f64>,
+    pub gripper_size: Option<f64>,
+}
+
+/// An object as a request describes it, before it is checked; attribute values already as text.
+#[derive(Clone, Debug)]
+pub struct ObjectInput {
+    pub id: String,
+    pub kind: String,
+    pub properties: Vec<String>,
+    pub attributes: BTreeMap<String, String>,
+    pub position: [f64; 3],
+    pub shape: Option<Shape>,
+    pub rotation: Option<[f64; 4]>,
+    pub mass: Option<f64>,
+}
+
+/// A scene as a request describes it: facts as text.
+#[derive(Clone, Debug)]
+pub struct SceneInput {
+    pub agent: AgentInput,
+    pub objects: Vec<ObjectInput>,
+    pub facts: Vec<String>,
+}
+
+impl Shape {
+    /// A shape whose sizes are all positive; fields named relative to the shape.
+    fn checked(self) -> Result<Shape, Invalid> {
+        match &self {
+            Shape::Ball { radius } => positive("/ball/radius", *radius)?,
+            Shape::Cuboid { half_extents } => {
+                for (k, h) in half_extents.iter().enumerate() {
+                    positive(&format!("/cuboid/half_extents/{k}"), *h)?;
+                }
+            }
+            Shape::Cylinder { radius, half_height } => {
+                positive("/cylinder/radius", *radius)?;
+                positive("/cylinder/half_height", *half_height)?;
+            }
+        }
+        Ok(self)
+    }
+}
+
+impl Agent {
+    /// Fields named relative to the agent.
+    fn from_input(input: AgentInput) -> Result<Agent, Invalid> {
+        let id = input.id.unwrap_or_else(|| "self".to_owned());
+        constant("/id", &id, "the agent id")?;
+        finite("/position", &input.position)?;
+        if !(input.reach.is_finite() && input.reach >= 0.0) {
+            return Err(Invalid::new("/reach", "must be a non-negative number of metres"));
+        }
+        for (field, value) in [
+            ("/gripper_aperture", input.gripper_aperture),
+            ("/payload", input.payload),
+            ("/gripper_size", input.gripper_size),
+        ] {
+            if let Some(v) = value {
+                positive(field, v)?;
+            }
+        }
+        Ok(Agent {
+            id,
+            position: input.position,
+            reach: input.reach,
+            gripper_aperture: input.gripper_aperture,
+            payload: input.payload,
+            gripper_size: input.gripper_size,
+        })
+    }
+}
+
+impl Object {
+    /// Every field but the id's uniqueness, which only the scene can see; named relative to the
+    /// object. The rotation is normalised.
+    fn from_input(o: ObjectInput) -> Result<Object, Invalid> {
+        constant("/type", &o.kind, "a type")?;
+        for (j, p) in o.properties.iter().enumerate() {
+            constant(&format!("/properties/{j}"), p, "a property")?;
+        }
+        for (key, value) in &o.attributes {
+            let field = format!("/attributes/{}", pointer_segment(key));
+            constant(&field, key, "an attribute name")?;
+            constant(&field, value, "an attribute value")?;
+        }
+        finite("/position", &o.position)?;
+        let shape = o
+            .shape
+            .map(|s| s.checked().map_err(|e| e.within("/shape")))
+            .transpose()?;
+        let rotation = match o.rotation {
+            None => None,
+            Some(q) => {
+                finite("/rotation", &q)?;
+                let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if (norm - 1.0).abs() > 1e-3 {
+                    return Err(Invalid::new(
+                        "/rotation",
+                        format!("must be a unit quaternion [x,y,z,w]; its norm is {norm}"),
+                    ));
+                }
+                Some(q.map(|c| c / norm))
+            }
+        };
+        if let Some(mass) = o.mass
+            && !(mass.is_finite() && mass >= 0.0)
+        {
+            return Err(Invalid::new("/mass", "must be a non-negative number of kilograms"));
+        }
+        Ok(Object {
+            id: o.id,
+            kind: o.kind,
+            properties: o.properties,
+            attributes: o.attributes,
+            position: o.position,
+            shape,
+            rotation,
+            mass: o.mass,
+        })
+    }
+}
+
 impl Scene {
-    /// Builds the scene; the caller has already checked every field (ids unique, geometry finite).
-    pub fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
+    /// Checks every field of a scene within the operator's limits; the first fault is reported,
+    /// named relative to the scene (`/objects/2/id`).
+    pub fn from_input(input: SceneInput, limits: &RequestLimits) -> Result<Scene, Invalid> {
+        if input.objects.len() > limits.max_objects {
+            return Err(Invalid::new(
+                "/objects",
+                format!(
+                    "{} objects is over the limit of {} per scene (--max-objects)",
+                    input.objects.len(),
+                    limits.max_objects
+                ),
+            ));
+        }
+        let agent = Agent::from_input(input.agent).map_err(|e| e.within("/agent"))?;
+        let mut seen = std::collections::HashSet::new();
+        let mut objects = Vec::with_capacity(input.objects.len());
+        for (i, o) in input.objects.into_iter().enumerate() {
+            let at = format!("/objects/{i}");
+            constant(&format!("{at}/id"), &o.id, "an object id")?;
+            if !seen.insert(o.id.clone()) {
+                return Err(Invalid::new(
+                    format!("{at}/id"),
+                    format!("duplicate object id `{}`", o.id),
+                ));
+            }
+            objects.push(Object::from_input(o).map_err(|e| e.within(&at))?);
+        }
+        let mut facts = Vec::with_capacity(input.facts.len());
+        for (k, text) in input.facts.iter().enumerate() {
+            let field = format!("/facts/{k}");
+            let fact =
+                Term::parse_within(text, limits.terms).map_err(|e| Invalid::new(&field, format!("not a term: {e}")))?;
+            if !fact.is_ground() || fact.is_var() {
+                return Err(Invalid::new(field, "a scene fact must be ground (no variables)"));
+            }
+            facts.push(fact);
+        }
+        Ok(Scene::new(agent, objects, facts))
+    }
+
+    /// Builds the scene from values already checked (by `from_input`, or a test's fixtures).
+    pub(super) fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
         let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
         let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
         let clearance_cache = objects.iter().map(|_| OnceLock::new()).collect();

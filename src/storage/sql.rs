@@ -9,7 +9,8 @@ use async_trait::async_trait;
 
 use super::{Accept, AuditEntry, NormStore, Operation, StoreError, StoredAction, Subject, Versions, Write};
 use crate::engine::action::ActionInput;
-use crate::engine::norms::{Norm, NormKind, NormSpec, normalise_name};
+use crate::engine::input::Spelled;
+use crate::engine::norms::{Norm, NormInput, NormKind, NormSpec};
 use crate::engine::term::Term;
 
 /// Which set's version a write moves.
@@ -76,45 +77,33 @@ pub(super) fn to_json(list: &[String]) -> Result<String, StoreError> {
     serde_json::to_string(list).map_err(|e| StoreError::new(e.to_string()))
 }
 
-fn normalised(names: Vec<String>) -> Vec<String> {
-    let mut out: Vec<String> = Vec::with_capacity(names.len());
-    for name in names.iter().map(|n| normalise_name(n)) {
-        if !out.contains(&name) {
-            out.push(name);
-        }
-    }
-    out
-}
-
 impl NormRow {
+    /// A stored row passes the same validation as a norm sent to the API: a row this version
+    /// would not accept (written by hand, or under older, looser rules) is a store error naming
+    /// the norm and the field, and decisions fail closed until it is mended.
     pub(super) fn into_norm(self) -> Result<Norm, StoreError> {
         let id = self.id;
         let kind = NormKind::parse(&self.kind).ok_or_else(|| corrupt(id, "unknown kind"))?;
-        let term = Term::parse(&self.term).map_err(|e| corrupt(id, &e.to_string()))?;
-        let when = json_list(id, "when_json", &self.when_json)?
-            .iter()
-            .map(|t| Term::parse(t))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| corrupt(id, &e.to_string()))?;
-        let severity = u8::try_from(self.severity)
-            .ok()
-            .filter(|s| (1..=5).contains(s))
-            .ok_or_else(|| corrupt(id, "severity out of range"))?;
+        let (action, state) = match kind {
+            NormKind::ForbiddenAction => (Some(self.term), None),
+            NormKind::ForbiddenState => (None, Some(self.term)),
+        };
+        let input = NormInput {
+            kind: Some(self.kind),
+            action,
+            state,
+            when: Some(json_list(id, "when_json", &self.when_json)?),
+            context: self.context,
+            severity: Some(self.severity),
+            note: self.note,
+            roles: Some(json_list(id, "roles_json", &self.roles_json)?),
+            exempt_roles: Some(json_list(id, "exempt_roles_json", &self.exempt_roles_json)?),
+        };
+        let spec = input.validate().map_err(|e| corrupt(id, &e.to_string()))?;
         Ok(Norm {
             id,
             revision: self.revision,
-            spec: NormSpec {
-                kind,
-                term,
-                when,
-                // Stored before names were normalised on the way in: normalised as read, so
-                // that a "Hospital" norm still meets a "hospital" request.
-                context: self.context.as_deref().map(normalise_name),
-                severity,
-                note: self.note,
-                roles: normalised(json_list(id, "roles_json", &self.roles_json)?),
-                exempt_roles: normalised(json_list(id, "exempt_roles_json", &self.exempt_roles_json)?),
-            },
+            spec,
         })
     }
 }

@@ -13,7 +13,6 @@ pub mod tls;
 
 use std::sync::Arc;
 
-use crate::api::RequestLimits;
 use crate::core::Core;
 
 /// What every handler of either transport shares.
@@ -24,12 +23,7 @@ pub struct AppState {
     pub tokens: Arc<auth::Tokens>,
     /// Largest REST request body accepted, bytes (gRPC messages likewise).
     pub max_body_bytes: usize,
-    /// What one clarify or check request may ask.
-    pub limits: RequestLimits,
     pub metrics: Arc<crate::metrics::Metrics>,
-    /// Whether the human's words, the speaker and the robot's answer may be logged (off by
-    /// default: they are personal data).
-    pub log_utterances: bool,
 }
 
 /// When a request arrived, stamped by the outermost observing layer: a decision's deadline

@@ -130,20 +130,3 @@ pub fn span(request: &axum::http::Request<axum::body::Body>) -> tracing::Span {
         .unwrap_or_default();
     tracing::info_span!("request", method = %request.method(), path = %request.uri().path(), request_id = %id)
 }
-
-/// One debug line per decision; the words, the speaker and the answer only when the operator
-/// turned `--log-utterances` on.
-pub fn log_decision(
-    app: &crate::transport::AppState,
-    decision: &crate::engine::Decision,
-    text: Option<&str>,
-    speaker: Option<&str>,
-) {
-    let kind = decision.kind.as_str();
-    let readings = decision.interpretations.len();
-    if app.log_utterances {
-        tracing::debug!(decision = kind, readings, text, speaker, utterance = %decision.utterance, "decided");
-    } else {
-        tracing::debug!(decision = kind, readings, "decided");
-    }
-}

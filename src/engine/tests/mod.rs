@@ -8,11 +8,10 @@ use std::collections::BTreeMap;
 use proptest::prelude::*;
 
 use super::action::Library;
-use super::clarify::{
-    DEFAULT_MAX_SPOKEN, Directive, FEW, Options, Request, SinglePermissible, Strategy as ClarifyStrategy, clarify,
-};
+use super::clarify::{FEW, clarify};
 use super::decision::{Decision, DecisionKind, Interpretation};
 use super::norms::{CompiledNorms, Norm, NormInput};
+use super::request::{DEFAULT_MAX_SPOKEN, Directive, Options, Request, SinglePermissible, Strategy as ClarifyStrategy};
 use super::resolve::{Candidate, Reference};
 use super::scene::{Agent, Object, Scene, Shape};
 use super::term::{Sym, Term};

@@ -1,4 +1,4 @@
-//! Proto messages to and from the REST body types, field for field.
+//! Proto messages to and from the wire body types, field for field.
 //!
 //! Must not: check anything the REST path checks; only what proto3 cannot say the same way
 //! (a fixed-length list, an absent message) is caught here, with the same field pointers.
@@ -6,13 +6,16 @@
 use std::collections::BTreeMap;
 
 use super::pb;
-use crate::api::{
+use crate::engine::action::{ActionInput, MethodInput};
+use crate::engine::decision::Style;
+use crate::engine::input::Spelled;
+use crate::engine::request::{SinglePermissible, Strategy};
+use crate::error::Error;
+use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
     InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
-    ShapeBody, SinglePermissibleBody, StrategyBody, StyleBody,
+    ShapeBody,
 };
-use crate::engine::action::{ActionInput, MethodInput};
-use crate::error::Error;
 
 fn missing(field: &str) -> Error {
     let name = field.rsplit('/').next().unwrap_or(field);
@@ -25,15 +28,12 @@ fn fixed<const N: usize>(field: &str, values: Vec<f64>) -> Result<[f64; N], Erro
     <[f64; N]>::try_from(values).map_err(|_| Error::invalid(field, format!("expected {N} numbers, got {count}")))
 }
 
-fn word<T>(
-    field: &str,
-    value: Option<String>,
-    parse: fn(&str) -> Option<T>,
-    expected: &str,
-) -> Result<Option<T>, Error> {
+/// One of an option's words, spelled as the engine spells it.
+fn word<T: Spelled>(field: &str, value: Option<String>) -> Result<Option<T>, Error> {
     value
         .map(|text| {
-            parse(&text).ok_or_else(|| Error::invalid(field, format!("unknown variant `{text}`, expected {expected}")))
+            T::parse(&text)
+                .ok_or_else(|| Error::invalid(field, format!("unknown variant `{text}`, expected {}", T::expected())))
         })
         .transpose()
 }
@@ -48,36 +48,9 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
             .options
             .map(|o| -> Result<OptionsBody, Error> {
                 Ok(OptionsBody {
-                    strategy: word(
-                        "/options/strategy",
-                        o.strategy,
-                        |t| match t {
-                            "moral" => Some(StrategyBody::Moral),
-                            "reflexive" => Some(StrategyBody::Reflexive),
-                            _ => None,
-                        },
-                        "`moral` or `reflexive`",
-                    )?,
-                    single_permissible: word(
-                        "/options/single_permissible",
-                        o.single_permissible,
-                        |t| match t {
-                            "assume" => Some(SinglePermissibleBody::Assume),
-                            "confirm" => Some(SinglePermissibleBody::Confirm),
-                            _ => None,
-                        },
-                        "`assume` or `confirm`",
-                    )?,
-                    style: word(
-                        "/options/style",
-                        o.style,
-                        |t| match t {
-                            "diarc" => Some(StyleBody::Diarc),
-                            "natural" => Some(StyleBody::Natural),
-                            _ => None,
-                        },
-                        "`diarc` or `natural`",
-                    )?,
+                    strategy: word::<Strategy>("/options/strategy", o.strategy)?,
+                    single_permissible: word::<SinglePermissible>("/options/single_permissible", o.single_permissible)?,
+                    style: word::<Style>("/options/style", o.style)?,
                     max_spoken: o.max_spoken,
                     max_readings: o.max_readings,
                     deadline_ms: o.deadline_ms,
@@ -294,16 +267,7 @@ impl TryFrom<pb::CheckRequest> for CheckBody {
     fn try_from(request: pb::CheckRequest) -> Result<Self, Error> {
         let scene = request.scene.ok_or_else(|| missing("/scene"))?;
         let deadline_ms = request.options.as_ref().and_then(|o| o.deadline_ms);
-        let style = word(
-            "/options/style",
-            request.options.and_then(|o| o.style),
-            |t| match t {
-                "diarc" => Some(StyleBody::Diarc),
-                "natural" => Some(StyleBody::Natural),
-                _ => None,
-            },
-            "`diarc` or `natural`",
-        )?;
+        let style = word::<Style>("/options/style", request.options.and_then(|o| o.style))?;
         Ok(CheckBody {
             scene: scene.try_into()?,
             steps: request.steps,
@@ -314,7 +278,7 @@ impl TryFrom<pb::CheckRequest> for CheckBody {
     }
 }
 
-fn limits(l: crate::api::LimitsDto) -> pb::Limits {
+fn limits(l: crate::wire::LimitsDto) -> pb::Limits {
     pb::Limits {
         reason: l.reason,
         readings: l.readings,
@@ -392,8 +356,8 @@ impl From<ActionInput> for pb::Action {
     }
 }
 
-impl From<crate::api::NormSetDto> for pb::NormSet {
-    fn from(set: crate::api::NormSetDto) -> Self {
+impl From<crate::wire::NormSetDto> for pb::NormSet {
+    fn from(set: crate::wire::NormSetDto) -> Self {
         pb::NormSet {
             version: set.version,
             norms: set.norms.into_iter().map(Into::into).collect(),
@@ -401,8 +365,8 @@ impl From<crate::api::NormSetDto> for pb::NormSet {
     }
 }
 
-impl From<crate::api::AuditEntryDto> for pb::AuditEntry {
-    fn from(e: crate::api::AuditEntryDto) -> Self {
+impl From<crate::wire::AuditEntryDto> for pb::AuditEntry {
+    fn from(e: crate::wire::AuditEntryDto) -> Self {
         pb::AuditEntry {
             id: e.id,
             at: e.at,

@@ -2,22 +2,21 @@
 //! reflection.
 //!
 //! Owns: proto conversions and gRPC metadata. Must not: validate domain input itself (a proto
-//! request becomes the REST body type and passes the same checks, so both transports report the
-//! same field) or answer a failure except through `Error`.
+//! request becomes the wire body type and passes the same engine checks, so both transports
+//! report the same field) or answer a failure except through `Error`.
 
 mod convert;
 
 use tonic::{Request, Response, Status};
 
-use crate::api::{
-    AuditEntryDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE, NormBody,
-    NormDto, NormSetDto,
-};
-use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::ActionInput;
 use crate::error::Error;
 use crate::transport::auth::Access;
 use crate::transport::{AppState, Arrival};
+use crate::wire::{
+    AuditEntryDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE, NormBody,
+    NormDto, NormSetDto,
+};
 
 /// Generated from `proto/scruple/v1/scruple.proto`.
 pub mod pb {
@@ -85,11 +84,8 @@ impl Clarifier for ClarifierService {
     async fn clarify(&self, request: Request<pb::ClarifyRequest>) -> Result<Response<pb::ClarifyResponse>, Status> {
         let arrived = Arrival::of(request.extensions());
         let body = ClarifyBody::try_from(request.into_inner())?;
-        let mut input = ClarifyInput::from_body(body, &self.state.limits)?;
-        let text = input.text.take();
-        let speaker = self.state.log_utterances.then(|| input.request.speaker.clone());
-        let decision = self.state.core.clarify(input, arrived).await?;
-        crate::transport::observe::log_decision(&self.state, &decision, text.as_deref(), speaker.as_deref());
+        let text = body.directive.text.clone();
+        let decision = self.state.core.clarify(body.into(), text.as_deref(), arrived).await?;
         if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
             return Ok(Response::new(DecisionDto::new(&decision, text).into()));
         }
@@ -102,8 +98,8 @@ impl Clarifier for ClarifierService {
 
     async fn check(&self, request: Request<pb::CheckRequest>) -> Result<Response<pb::CheckResponse>, Status> {
         let arrived = Arrival::of(request.extensions());
-        let input = CheckInput::from_body(CheckBody::try_from(request.into_inner())?, &self.state.limits)?;
-        let check = self.state.core.check(input, arrived).await?;
+        let body = CheckBody::try_from(request.into_inner())?;
+        let check = self.state.core.check(body.into(), arrived).await?;
         Ok(Response::new(CheckDto::from(&check).into()))
     }
 }

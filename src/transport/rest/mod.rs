@@ -16,16 +16,15 @@ use utoipa::OpenApi;
 use utoipa_axum::router::OpenApiRouter;
 use utoipa_axum::routes;
 
-use crate::api::{
-    ActionSchema, AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto,
-    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
-};
-use crate::core::{CheckInput, ClarifyInput};
 use crate::engine::action::ActionInput;
 use crate::error::{Error, PROBLEM_JSON, Problem};
 use crate::transport::auth::Access;
 use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
+use crate::wire::{
+    ActionSchema, AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto,
+    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
+};
 
 mod coding;
 mod doc;
@@ -512,11 +511,8 @@ async fn clarify(
     JsonBody(body): JsonBody<ClarifyBody>,
 ) -> Result<Response, Error> {
     let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
-    let mut input = ClarifyInput::from_body(body, &app.limits)?;
-    let text = input.text.take();
-    let speaker = app.log_utterances.then(|| input.request.speaker.clone());
-    let decision = app.core.clarify(input, arrived).await?;
-    crate::transport::observe::log_decision(&app, &decision, text.as_deref(), speaker.as_deref());
+    let text = body.directive.text.clone();
+    let decision = app.core.clarify(body.into(), text.as_deref(), arrived).await?;
     if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
         return Ok(Json(DecisionDto::new(&decision, text)).into_response());
     }
@@ -550,8 +546,7 @@ async fn check(
     JsonBody(body): JsonBody<CheckBody>,
 ) -> Result<Json<CheckDto>, Error> {
     let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
-    let input = CheckInput::from_body(body, &app.limits)?;
-    let check = app.core.check(input, arrived).await?;
+    let check = app.core.check(body.into(), arrived).await?;
     Ok(Json(CheckDto::from(&check)))
 }
 

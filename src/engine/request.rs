@@ -1,0 +1,417 @@
+//! What a request asks: the directive, the options, a follow-up answer, and who speaks in which
+//! context; and the constructor that builds all of it, with its scene, from what a client sent.
+//!
+//! Owns: the request's types and their checks (every fault named by its field, as the request's
+//! JSON names it). Must not: resolve, simulate or decide; a `Request` that exists is valid
+//! against the scene it was built with.
+
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use serde::{Deserialize, Serialize};
+
+use super::action::verb_name;
+use super::decision::Style;
+use super::input::{Invalid, MAX_NAME_LEN, RequestLimits, Spelled, constant, pointer_segment, ranged};
+use super::norms::{normalise_name, validate_roles};
+use super::resolve::{Candidate, Reference, ReferenceInput};
+use super::scene::{Scene, SceneInput};
+use super::term::{Sym, Term};
+
+/// Defaults of the options that bound a request's work and words.
+pub const DEFAULT_MAX_SPOKEN: usize = 5;
+pub const DEFAULT_MAX_READINGS: usize = 10_000;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Strategy {
+    /// The paper's algorithm: simulate first, then ask only about what may be done.
+    #[default]
+    Moral,
+    /// The status quo the paper argues against: ask about every candidate before moral reasoning.
+    Reflexive,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SinglePermissible {
+    #[default]
+    Assume,
+    Confirm,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    pub strategy: Strategy,
+    pub single_permissible: SinglePermissible,
+    pub style: Style,
+    /// Most readings a question names; above it the question names the few likeliest and ends
+    /// "or something else", or names the ambiguous words.
+    pub max_spoken: usize,
+    /// Most readings simulated; above it nothing is simulated and the ambiguous words are named.
+    pub max_readings: usize,
+    /// When exactly one reading is acceptable and the share of the others is above this ratio,
+    /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
+    pub confirm_above_ratio: Option<f64>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            strategy: Strategy::Moral,
+            single_permissible: SinglePermissible::Assume,
+            style: Style::Diarc,
+            max_spoken: DEFAULT_MAX_SPOKEN,
+            max_readings: DEFAULT_MAX_READINGS,
+            confirm_above_ratio: None,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Directive {
+    /// A verb and one reference per argument; readings are every combination of candidates.
+    Action { verb: String, arguments: Vec<Reference> },
+    /// An action with variables, already unwrapped from `want(S,did(self,...))` by the caller
+    /// (`get(X)`), and each variable's candidates, in the order the variables first appear.
+    Form {
+        action: Term,
+        bindings: Vec<(Sym, Vec<Candidate>)>,
+    },
+}
+
+/// The human's answer to a question the robot asked, sent with the original request.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Answer {
+    /// The position (from 0) of a reading among those the question named (`offered`).
+    Choice(usize),
+    /// An object of the scene: keeps the readings that involve it.
+    Id(String),
+    /// "the red one": keeps the readings with an argument that matches.
+    Reference(Reference),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request {
+    pub speaker: Sym,
+    /// The speaker's roles (`owner`): with the context, they select the norms in force.
+    pub speaker_roles: Vec<String>,
+    pub directive: Directive,
+    pub context: String,
+    pub options: Options,
+    pub answer: Option<Answer>,
+}
+
+impl Spelled for Strategy {
+    const ALL: &'static [Strategy] = &[Strategy::Moral, Strategy::Reflexive];
+
+    fn as_str(self) -> &'static str {
+        match self {
+            Strategy::Moral => "moral",
+            Strategy::Reflexive => "reflexive",
+        }
+    }
+}
+
+impl Spelled for SinglePermissible {
+    const ALL: &'static [SinglePermissible] = &[SinglePermissible::Assume, SinglePermissible::Confirm];
+
+    fn as_str(self) -> &'static str {
+        match self {
+            SinglePermissible::Assume => "assume",
+            SinglePermissible::Confirm => "confirm",
+        }
+    }
+}
+
+/// A candidate from an upstream resolver, before it is checked: an id, or an id with a score.
+#[derive(Clone, Debug)]
+pub enum BindingInput {
+    Id(String),
+    Scored { id: String, score: f64 },
+}
+
+/// A directive as a request gives it, before it is checked: `action` with `arguments`, or
+/// `form` with `bindings`.
+#[derive(Clone, Debug, Default)]
+pub struct DirectiveInput {
+    pub action: Option<String>,
+    pub arguments: Option<Vec<ReferenceInput>>,
+    pub form: Option<String>,
+    pub bindings: Option<BTreeMap<String, Vec<BindingInput>>>,
+}
+
+/// A follow-up answer as a request gives it: exactly one of the three.
+#[derive(Clone, Debug, Default)]
+pub struct AnswerInput {
+    pub choice: Option<u64>,
+    pub id: Option<String>,
+    pub reference: Option<ReferenceInput>,
+}
+
+/// The options as a request gives them; absent ones take their defaults.
+#[derive(Clone, Debug, Default)]
+pub struct OptionsInput {
+    pub strategy: Option<Strategy>,
+    pub single_permissible: Option<SinglePermissible>,
+    pub style: Option<Style>,
+    pub max_spoken: Option<u64>,
+    pub max_readings: Option<u64>,
+    pub deadline_ms: Option<u64>,
+    pub confirm_above_ratio: Option<f64>,
+}
+
+/// A whole clarify request as a client sent it, before anything is checked.
+#[derive(Clone, Debug)]
+pub struct RequestInput {
+    pub speaker: Option<String>,
+    pub directive: DirectiveInput,
+    pub scene: SceneInput,
+    pub context: Option<String>,
+    pub options: Option<OptionsInput>,
+    pub speaker_roles: Option<Vec<String>>,
+    pub answer: Option<AnswerInput>,
+}
+
+/// A request checked: what the engine decides on, and how long the decision may take.
+#[derive(Debug)]
+pub struct Checked {
+    pub request: Request,
+    pub scene: Scene,
+    pub deadline: Duration,
+}
+
+/// The context norms are selected by: normalised as a norm's context is, so that the two meet;
+/// absent, `default`.
+pub fn context_of(context: Option<String>) -> Result<String, Invalid> {
+    let context = context.map_or_else(|| "default".to_owned(), |c| normalise_name(&c));
+    if context.is_empty() || context.len() > MAX_NAME_LEN {
+        return Err(Invalid::new(
+            "/context",
+            format!("must be 1 to {MAX_NAME_LEN} bytes long"),
+        ));
+    }
+    Ok(context)
+}
+
+/// The speaker's roles, as a norm's are checked.
+pub fn speaker_roles_of(roles: Option<Vec<String>>) -> Result<Vec<String>, Invalid> {
+    validate_roles("/speaker_roles", roles)
+}
+
+impl Request {
+    /// Checks a whole request within the operator's limits, in the order of its members; the
+    /// first fault is reported with its field, and nothing reaches a simulation.
+    pub fn from_input(input: RequestInput, limits: &RequestLimits) -> Result<Checked, Invalid> {
+        let speaker = input.speaker.unwrap_or_else(|| "human".to_owned());
+        constant("/speaker", &speaker, "the speaker")?;
+        let context = context_of(input.context)?;
+        let scene = Scene::from_input(input.scene, limits).map_err(|e| e.within("/scene"))?;
+        let (directive, form_speaker) =
+            Directive::from_input(input.directive, &scene, limits).map_err(|e| e.within("/directive"))?;
+        let speaker_roles = speaker_roles_of(input.speaker_roles)?;
+        let answer = (input.answer)
+            .map(|a| Answer::from_input(a, &scene).map_err(|e| e.within("/answer")))
+            .transpose()?;
+        let (options, deadline) = Options::from_input(input.options.unwrap_or_default(), limits)?;
+        Ok(Checked {
+            request: Request {
+                speaker: form_speaker.unwrap_or_else(|| Sym::from(speaker)),
+                speaker_roles,
+                directive,
+                context,
+                options,
+                answer,
+            },
+            scene,
+            deadline,
+        })
+    }
+}
+
+impl Options {
+    /// The options and the deadline they ask for; fields named as in the request (`/options/..`).
+    fn from_input(options: OptionsInput, limits: &RequestLimits) -> Result<(Options, Duration), Invalid> {
+        if let Some(ratio) = options.confirm_above_ratio
+            && !(ratio.is_finite() && (0.0..1.0).contains(&ratio))
+        {
+            return Err(Invalid::new(
+                "/options/confirm_above_ratio",
+                "must be a ratio with 0 ≤ ratio < 1",
+            ));
+        }
+        let deadline = limits.deadline(options.deadline_ms)?;
+        let max_spoken = ranged(
+            "/options/max_spoken",
+            options.max_spoken,
+            2..=50,
+            DEFAULT_MAX_SPOKEN as u64,
+        )?;
+        let max_readings = ranged(
+            "/options/max_readings",
+            options.max_readings,
+            1..=100_000,
+            DEFAULT_MAX_READINGS as u64,
+        )?;
+        let options = Options {
+            strategy: options.strategy.unwrap_or_default(),
+            single_permissible: options.single_permissible.unwrap_or_default(),
+            style: options.style.unwrap_or_default(),
+            max_spoken: max_spoken as usize,
+            max_readings: max_readings as usize,
+            confirm_above_ratio: options.confirm_above_ratio,
+        };
+        Ok((options, deadline))
+    }
+}
+
+impl Answer {
+    /// Fields named relative to the answer.
+    fn from_input(input: AnswerInput, scene: &Scene) -> Result<Answer, Invalid> {
+        match (input.choice, input.id, input.reference) {
+            (Some(choice), None, None) => Ok(Answer::Choice(usize::try_from(choice).unwrap_or(usize::MAX))),
+            (None, Some(id), None) => {
+                if scene.object(&id).is_none() {
+                    return Err(Invalid::new("/id", format!("no object `{id}` in the scene")));
+                }
+                Ok(Answer::Id(id))
+            }
+            (None, None, Some(reference)) => {
+                match Reference::from_input(reference, scene).map_err(|e| e.within("/reference"))? {
+                    Reference::Id(id) => Ok(Answer::Id(id)),
+                    described => Ok(Answer::Reference(described)),
+                }
+            }
+            _ => Err(Invalid::new("", "give exactly one of `choice`, `id`, `reference`")),
+        }
+    }
+}
+
+/// Splits a logical form into its speaker (when wrapped as `want(S,...)`) and the action of
+/// `did(self,ACTION)`; a bare action is taken as the action itself.
+fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> {
+    let (speaker, inner) = match (form.name().map(|n| &**n), form.args()) {
+        (Some("want"), [speaker, inner]) => match speaker {
+            Term::Const(s) => (Some(s.clone()), inner.clone()),
+            _ => return Err("the speaker in want(S,...) must be a constant".to_owned()),
+        },
+        _ => (None, form.clone()),
+    };
+    let action = match (inner.name().map(|n| &**n), inner.args()) {
+        (Some("did"), [actor, action]) => {
+            match actor {
+                Term::Const(a) if &**a == "self" || &**a == agent => {}
+                _ => {
+                    let names = if agent == "self" {
+                        "`self`".to_owned()
+                    } else {
+                        format!("`self` or `{agent}`")
+                    };
+                    return Err(format!("did(A,...) must name the agent: {names}"));
+                }
+            }
+            action.clone()
+        }
+        _ => inner,
+    };
+    if action.is_var() {
+        return Err("the action must name a verb, not be a variable".to_owned());
+    }
+    Ok((speaker, action))
+}
+
+impl Directive {
+    /// The directive and, for a form `want(S,...)`, its speaker; fields named relative to the
+    /// directive. Every reference and binding must name objects of `scene`.
+    fn from_input(
+        input: DirectiveInput,
+        scene: &Scene,
+        limits: &RequestLimits,
+    ) -> Result<(Directive, Option<Sym>), Invalid> {
+        match (input.action, input.form) {
+            (Some(_), Some(_)) => Err(Invalid::new("", "give either `action` or `form`, not both")),
+            (None, None) => Err(Invalid::new(
+                "",
+                "needs `action` (with `arguments`) or `form` (with `bindings`)",
+            )),
+            (Some(verb), None) => {
+                verb_name(&verb).map_err(|m| Invalid::new("/action", m))?;
+                if input.bindings.is_some() {
+                    return Err(Invalid::new(
+                        "/bindings",
+                        "`bindings` go with `form`, not with `action`",
+                    ));
+                }
+                let arguments = (input.arguments.unwrap_or_default().into_iter().enumerate())
+                    .map(|(i, r)| Reference::from_input(r, scene).map_err(|e| e.within(&format!("/arguments/{i}"))))
+                    .collect::<Result<_, _>>()?;
+                Ok((Directive::Action { verb, arguments }, None))
+            }
+            (None, Some(text)) => {
+                if input.arguments.is_some() {
+                    return Err(Invalid::new(
+                        "/arguments",
+                        "`arguments` go with `action`, not with `form`",
+                    ));
+                }
+                let form = Term::parse_within(&text, limits.terms)
+                    .map_err(|e| Invalid::new("/form", format!("not a term: {e}")))?;
+                let (speaker, action) = unwrap_form(&form, &scene.agent.id).map_err(|m| Invalid::new("/form", m))?;
+                if let Some(name) = action.name() {
+                    verb_name(name).map_err(|m| Invalid::new("/form", m))?;
+                }
+                let bindings = bindings_of(&action, input.bindings.unwrap_or_default(), scene)?;
+                Ok((Directive::Form { action, bindings }, speaker))
+            }
+        }
+    }
+}
+
+/// Each variable of `action`, in first-appearance order, with its candidates: every variable
+/// must have some, each naming a distinct object of the scene, and nothing else may be bound.
+fn bindings_of(
+    action: &Term,
+    given: BTreeMap<String, Vec<BindingInput>>,
+    scene: &Scene,
+) -> Result<Vec<(Sym, Vec<Candidate>)>, Invalid> {
+    let variables = action.variables();
+    for name in given.keys() {
+        if !variables.iter().any(|v| &**v == name) {
+            return Err(Invalid::new(
+                format!("/bindings/{}", pointer_segment(name)),
+                format!("`{name}` is not a variable of the form"),
+            ));
+        }
+    }
+    let mut bindings = Vec::with_capacity(variables.len());
+    for variable in variables {
+        let at = format!("/bindings/{}", pointer_segment(&variable));
+        let Some(list) = given.get(&*variable) else {
+            return Err(Invalid::new(
+                at,
+                format!("no candidates given for the variable `{variable}`"),
+            ));
+        };
+        let mut candidates: Vec<Candidate> = Vec::with_capacity(list.len());
+        for (j, binding) in list.iter().enumerate() {
+            let (id, score, id_at) = match binding {
+                BindingInput::Id(id) => (id, 1.0, format!("{at}/{j}")),
+                BindingInput::Scored { id, score } => {
+                    if !(score.is_finite() && *score >= 0.0) {
+                        return Err(Invalid::new(format!("{at}/{j}/score"), "must be a finite number ≥ 0"));
+                    }
+                    (id, *score, format!("{at}/{j}/id"))
+                }
+            };
+            if scene.object(id).is_none() {
+                return Err(Invalid::new(id_at, format!("no object `{id}` in the scene")));
+            }
+            if candidates.iter().any(|c| &c.id == id) {
+                return Err(Invalid::new(id_at, format!("`{id}` is listed twice")));
+            }
+            candidates.push(Candidate { id: id.clone(), score });
+        }
+        bindings.push((variable, candidates));
+    }
+    Ok(bindings)
+}

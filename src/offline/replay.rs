@@ -1,0 +1,327 @@
+//! `scruple replay`: the line format, deciding every line, the answers and the summary.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use super::{Knowledge, core_over, decide};
+use crate::error::Problem;
+use crate::wire::{ClarifyBody, DecisionDto, parse_json};
+
+/// One request of a replay file, wrapped to carry a label and an experimental condition.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Envelope {
+    #[serde(default)]
+    id: Option<String>,
+    #[serde(default)]
+    condition: Option<String>,
+    request: ClarifyBody,
+}
+
+/// One non-blank line of a replay file, parsed.
+#[derive(Debug)]
+pub struct Line {
+    /// 1-based, counting every line of the file, blank ones included.
+    pub number: usize,
+    pub id: Option<String>,
+    pub condition: Option<String>,
+    /// Whether the request came in an envelope: its pointers then start with `/request`.
+    pub enveloped: bool,
+    /// The request, or why the line is not one (pointers are into the line's JSON).
+    pub request: Result<ClarifyBody, Problem>,
+}
+
+/// Parses a replay file. A line whose object has a `request` member is an envelope
+/// `{"id"?: string, "condition"?: string, "request": body}` (nothing else allowed); any other line
+/// is a bare `POST /v1/clarify` body (which has no `request` member, so the two never clash).
+/// Lines end at `\n` (a `\r` before it is dropped); blank lines are skipped; bytes that are not
+/// UTF-8 make their own line malformed, not the file.
+pub fn parse_lines(bytes: &[u8]) -> Vec<Line> {
+    bytes
+        .split(|b| *b == b'\n')
+        .enumerate()
+        .map(|(i, line)| (i + 1, line.strip_suffix(b"\r").unwrap_or(line)))
+        .filter(|(_, line)| !line.iter().all(u8::is_ascii_whitespace))
+        .map(|(number, line)| parse_line(number, line))
+        .collect()
+}
+
+fn parse_line(number: usize, bytes: &[u8]) -> Line {
+    let enveloped = matches!(
+        serde_json::from_slice::<serde_json::Value>(bytes),
+        Ok(serde_json::Value::Object(ref members)) if members.contains_key("request")
+    );
+    if enveloped {
+        match parse_json::<Envelope>(bytes) {
+            Ok(e) => Line {
+                number,
+                id: e.id,
+                condition: e.condition,
+                enveloped,
+                request: Ok(e.request),
+            },
+            Err(error) => Line {
+                number,
+                id: None,
+                condition: None,
+                enveloped,
+                request: Err(error.problem()),
+            },
+        }
+    } else {
+        Line {
+            number,
+            id: None,
+            condition: None,
+            enveloped,
+            request: parse_json::<ClarifyBody>(bytes).map_err(|e| e.problem()),
+        }
+    }
+}
+
+/// What one line came to.
+#[derive(Clone, Debug, Serialize)]
+pub struct Answer {
+    pub line: usize,
+    pub id: Option<String>,
+    pub condition: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decision: Option<DecisionDto>,
+    /// The problem a server would have answered with; pointers are into the request, or into
+    /// the line for an envelope that is itself wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<Problem>,
+}
+
+impl Answer {
+    /// The decision kind, or `error`.
+    pub fn kind(&self) -> &str {
+        self.decision.as_ref().map_or("error", |d| d.decision.as_str())
+    }
+
+    /// The utterance, or the problem's detail.
+    pub(super) fn words(&self) -> &str {
+        match (&self.decision, &self.error) {
+            (Some(d), _) => &d.utterance,
+            (None, Some(p)) => &p.detail,
+            (None, None) => "",
+        }
+    }
+}
+
+/// Decides every line, as many at once as there are cores; answers come back in line order.
+/// `done` is called once per line as it finishes, with the count so far (for a progress
+/// counter).
+pub async fn replay(lines: &[Line], knowledge: Knowledge, done: &(dyn Fn(usize) + Sync)) -> Vec<Answer> {
+    let core = core_over(knowledge);
+    // No more at once than the core has turns for costly decisions, so none waits for a turn
+    // (a server would answer such a wait as overload); small ones run on the runtime's threads.
+    let at_once = std::thread::available_parallelism().map_or(2, usize::from);
+    let mut answers: Vec<Option<Answer>> = vec![None; lines.len()];
+    let mut running = tokio::task::JoinSet::new();
+    let mut finished = 0;
+    for (i, line) in lines.iter().enumerate() {
+        if running.len() >= at_once
+            && let Some(joined) = running.join_next().await
+        {
+            let (k, answer) = settled(joined);
+            answers[k] = Some(answer);
+            finished += 1;
+            done(finished);
+        }
+        let core = core.clone();
+        let request = line.request.clone();
+        let (number, id, condition, enveloped) = (line.number, line.id.clone(), line.condition.clone(), line.enveloped);
+        running.spawn(async move {
+            let outcome = match request {
+                Ok(body) => decide(body, &core).await.map_err(|e| {
+                    let mut problem = e.problem();
+                    // Pointers in a report are into the line, whatever wraps the request.
+                    if enveloped {
+                        problem.field = problem.field.map(|f| format!("/request{f}"));
+                    }
+                    problem
+                }),
+                Err(problem) => Err(problem),
+            };
+            let (decision, error) = match outcome {
+                Ok(d) => (Some(d), None),
+                Err(p) => (None, Some(p)),
+            };
+            let answer = Answer {
+                line: number,
+                id,
+                condition,
+                decision,
+                error,
+            };
+            (i, answer)
+        });
+    }
+    while let Some(joined) = running.join_next().await {
+        let (k, answer) = settled(joined);
+        answers[k] = Some(answer);
+        finished += 1;
+        done(finished);
+    }
+    answers.into_iter().flatten().collect()
+}
+
+/// A finished line. A task ends only by returning or by a panic of the engine, which is a bug:
+/// it is raised here as it would have been without the task.
+fn settled(joined: Result<(usize, Answer), tokio::task::JoinError>) -> (usize, Answer) {
+    match joined {
+        Ok(done) => done,
+        Err(e) => std::panic::resume_unwind(e.into_panic()),
+    }
+}
+
+/// Answers as JSON Lines, one per request, in line order.
+pub fn answers_jsonl(answers: &[Answer]) -> String {
+    let mut out = String::new();
+    for answer in answers {
+        // An answer is plain data (strings, numbers, lists): it always serializes.
+        out.push_str(&serde_json::to_string(answer).unwrap_or_default());
+        out.push('\n');
+    }
+    out
+}
+
+/// The condition column for a line that names none.
+pub const NO_CONDITION: &str = "-";
+
+/// Decisions by kind, overall and per condition; kinds and conditions in byte order, `error`
+/// last.
+#[derive(Debug, Default)]
+pub struct Summary {
+    pub total: usize,
+    pub by_kind: BTreeMap<String, usize>,
+    pub by_condition: BTreeMap<String, BTreeMap<String, usize>>,
+    /// Lines that got no decision: line number and the problem.
+    pub errors: Vec<(usize, Problem)>,
+}
+
+impl Summary {
+    pub fn of(answers: &[Answer]) -> Summary {
+        let mut summary = Summary {
+            total: answers.len(),
+            ..Summary::default()
+        };
+        for answer in answers {
+            let kind = answer.kind().to_owned();
+            let condition = answer.condition.clone().unwrap_or_else(|| NO_CONDITION.to_owned());
+            *summary.by_kind.entry(kind.clone()).or_default() += 1;
+            *summary
+                .by_condition
+                .entry(condition)
+                .or_default()
+                .entry(kind)
+                .or_default() += 1;
+            if let Some(problem) = &answer.error {
+                summary.errors.push((answer.line, problem.clone()));
+            }
+        }
+        summary
+    }
+
+    /// `errors`, then one line per line that got no decision; empty when every line did.
+    pub fn errors_report(&self) -> String {
+        if self.errors.is_empty() {
+            return String::new();
+        }
+        let mut out = "errors\n".to_owned();
+        for (line, problem) in &self.errors {
+            out.push_str(&format!("line {line}: {}\n", problem_words(problem)));
+        }
+        out
+    }
+
+    /// The kinds that occur, in byte order, with `error` last.
+    fn kinds(&self) -> Vec<&str> {
+        let mut kinds: Vec<&str> = self
+            .by_kind
+            .keys()
+            .map(String::as_str)
+            .filter(|k| *k != "error")
+            .collect();
+        if self.by_kind.contains_key("error") {
+            kinds.push("error");
+        }
+        kinds
+    }
+}
+
+/// Left-aligned first column, right-aligned counts, two spaces between columns.
+fn table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let line = |cells: &[&str]| {
+        let mut text = String::new();
+        for (i, (cell, w)) in cells.iter().zip(&widths).enumerate() {
+            if i == 0 {
+                text.push_str(&format!("{cell:<w$}"));
+            } else {
+                text.push_str(&format!("  {cell:>w$}"));
+            }
+        }
+        text.trim_end().to_owned() + "\n"
+    };
+    let mut out = line(header);
+    for row in rows {
+        out.push_str(&line(&row.iter().map(String::as_str).collect::<Vec<_>>()));
+    }
+    out
+}
+
+/// A problem on one line of a report: its detail, and the field when one is at fault.
+fn problem_words(problem: &Problem) -> String {
+    match &problem.field {
+        Some(field) => format!("{} (at {})", problem.detail, if field.is_empty() { "/" } else { field }),
+        None => problem.detail.clone(),
+    }
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let errors = self.errors.len();
+        writeln!(
+            f,
+            "{} requests: {} decided, {} {}",
+            self.total,
+            self.total - errors,
+            errors,
+            if errors == 1 { "error" } else { "errors" }
+        )?;
+        let kinds = self.kinds();
+        let rows: Vec<Vec<String>> = kinds
+            .iter()
+            .map(|k| vec![(*k).to_owned(), self.by_kind[*k].to_string()])
+            .collect();
+        writeln!(f)?;
+        write!(f, "{}", table(&["decision", "count"], &rows))?;
+        let mut header = vec!["condition"];
+        header.extend(kinds.iter().copied());
+        let rows: Vec<Vec<String>> = self
+            .by_condition
+            .iter()
+            .map(|(condition, counts)| {
+                let mut row = vec![condition.clone()];
+                row.extend(kinds.iter().map(|k| counts.get(*k).copied().unwrap_or(0).to_string()));
+                row
+            })
+            .collect();
+        writeln!(f)?;
+        write!(f, "{}", table(&header, &rows))?;
+        if !self.errors.is_empty() {
+            writeln!(f)?;
+            write!(f, "{}", self.errors_report())?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,432 @@
+//! A clarify request and its decision, as JSON.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::engine::decision::{Decision, Interpretation, Limits, Style};
+use crate::engine::request::{
+    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, Strategy,
+};
+use crate::engine::resolve::ReferenceInput;
+use crate::engine::scene::{AgentInput, ObjectInput, SceneInput, Shape};
+use crate::engine::simulate::Reason;
+use crate::engine::term::Term;
+
+/// Unknown members are refused here and in the directive and options (a misspelt `options`
+/// would silently change an experiment's condition); scenes and objects accept extra members,
+/// since perception pipelines attach their own.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ClarifyBody {
+    #[serde(default)]
+    pub speaker: Option<String>,
+    pub directive: DirectiveBody,
+    pub scene: SceneBody,
+    #[serde(default)]
+    pub context: Option<String>,
+    #[serde(default)]
+    pub options: Option<OptionsBody>,
+    /// The speaker's roles (`owner`): with `context`, they select the norms in force.
+    #[serde(default)]
+    pub speaker_roles: Option<Vec<String>>,
+    /// The human's answer to the question this request's directive led to.
+    #[serde(default)]
+    pub answer: Option<AnswerBody>,
+}
+
+/// A follow-up: exactly one of `choice` (the position, from 0, among the readings the question
+/// named: the `offered` of the answer to the original request), `id`, or `reference`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AnswerBody {
+    #[serde(default)]
+    pub choice: Option<u64>,
+    #[serde(default)]
+    pub id: Option<String>,
+    #[serde(default)]
+    pub reference: Option<ReferenceBody>,
+}
+
+/// Either `action` + `arguments` or `form` + `bindings`; `text` is the human's words, echoed.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DirectiveBody {
+    #[serde(default)]
+    pub action: Option<String>,
+    #[serde(default)]
+    pub arguments: Option<Vec<ReferenceBody>>,
+    #[serde(default)]
+    pub form: Option<String>,
+    #[serde(default)]
+    pub bindings: Option<BTreeMap<String, Vec<BindingBody>>>,
+    #[serde(default)]
+    pub text: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceBody {
+    #[serde(default)]
+    pub id: Option<String>,
+    #[serde(rename = "type", default)]
+    pub kind: Option<String>,
+    #[serde(default)]
+    pub attributes: Option<BTreeMap<String, Scalar>>,
+    #[serde(default)]
+    pub properties: Option<Vec<String>>,
+}
+
+/// A candidate from an upstream resolver: an object id, or an id with a score.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(untagged, expecting = "an object id, or {\"id\": ID, \"score\": NUMBER}")]
+pub enum BindingBody {
+    Id(String),
+    Scored { id: String, score: f64 },
+}
+
+/// An attribute value: a string, or a number or boolean taken as its JSON text.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(untagged, expecting = "a string, number or boolean")]
+pub enum Scalar {
+    Text(String),
+    Number(f64),
+    Bool(bool),
+}
+
+impl Scalar {
+    /// The value as the engine compares it: a number or boolean as its JSON text.
+    fn text(self) -> String {
+        match self {
+            Scalar::Text(s) => s,
+            Scalar::Number(n) => n.to_string(),
+            Scalar::Bool(b) => b.to_string(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+pub struct SceneBody {
+    pub agent: AgentBody,
+    #[serde(default)]
+    pub objects: Vec<ObjectBody>,
+    #[serde(default)]
+    pub facts: Vec<String>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+pub struct AgentBody {
+    #[serde(default)]
+    pub id: Option<String>,
+    /// Metres, world frame (z up).
+    #[schema(min_items = 3, max_items = 3)]
+    pub position: [f64; 3],
+    /// Metres.
+    pub reach: f64,
+    /// Widest object, metres, the gripper can close around; absent: grasp is not checked.
+    #[serde(default)]
+    pub gripper_aperture: Option<f64>,
+    /// Heaviest object, kilograms, the arm can lift; absent: payload is not checked.
+    #[serde(default)]
+    pub payload: Option<f64>,
+    /// Radius, metres, of the ball the gripper sweeps on its way to an object; absent: clearance
+    /// is not checked.
+    #[serde(default)]
+    pub gripper_size: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+pub struct ObjectBody {
+    pub id: String,
+    #[serde(rename = "type")]
+    pub kind: String,
+    #[serde(default)]
+    pub properties: Vec<String>,
+    #[serde(default)]
+    pub attributes: BTreeMap<String, Scalar>,
+    /// Centre of the shape, metres, world frame.
+    #[schema(min_items = 3, max_items = 3)]
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub shape: Option<ShapeBody>,
+    /// Unit quaternion `[x, y, z, w]`.
+    #[serde(default)]
+    #[schema(min_items = 4, max_items = 4)]
+    pub rotation: Option<[f64; 4]>,
+    /// Kilograms; absent: payload is not checked for this object.
+    #[serde(default)]
+    pub mass: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeBody {
+    Ball {
+        radius: f64,
+    },
+    Cuboid {
+        #[schema(min_items = 3, max_items = 3)]
+        half_extents: [f64; 3],
+    },
+    Cylinder {
+        radius: f64,
+        half_height: f64,
+    },
+}
+
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OptionsBody {
+    #[serde(default)]
+    pub strategy: Option<Strategy>,
+    #[serde(default)]
+    pub single_permissible: Option<SinglePermissible>,
+    /// `diarc` (default, the paper's words) or `natural`.
+    #[serde(default)]
+    pub style: Option<Style>,
+    /// Most readings a question names (2..=50, default 5).
+    #[serde(default)]
+    #[schema(minimum = 2, maximum = 50)]
+    pub max_spoken: Option<u64>,
+    /// Most readings simulated (1..=100000, default 10000).
+    #[serde(default)]
+    #[schema(minimum = 1, maximum = 100000)]
+    pub max_readings: Option<u64>,
+    /// Milliseconds the decision may take (1..=60000, default 2000); past it, what is not yet
+    /// simulated is not offered and the answer says the deadline was hit.
+    #[serde(default)]
+    #[schema(minimum = 1, maximum = 60000)]
+    pub deadline_ms: Option<u64>,
+    /// Confirm instead of assuming when the share of unacceptable readings is above this
+    /// (0 ≤ ratio < 1). Absent: Algorithm 1's assumption.
+    #[serde(default)]
+    #[schema(minimum = 0, exclusive_maximum = 1)]
+    pub confirm_above_ratio: Option<f64>,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Into the engine's inputs: member for member; the engine's constructors check them.
+
+impl From<ClarifyBody> for RequestInput {
+    fn from(body: ClarifyBody) -> Self {
+        RequestInput {
+            speaker: body.speaker,
+            directive: body.directive.into(),
+            scene: body.scene.into(),
+            context: body.context,
+            options: body.options.map(Into::into),
+            speaker_roles: body.speaker_roles,
+            answer: body.answer.map(|a| AnswerInput {
+                choice: a.choice,
+                id: a.id,
+                reference: a.reference.map(Into::into),
+            }),
+        }
+    }
+}
+
+impl From<DirectiveBody> for DirectiveInput {
+    fn from(d: DirectiveBody) -> Self {
+        let bindings = d.bindings.map(|all| {
+            (all.into_iter())
+                .map(|(variable, list)| {
+                    let list = (list.into_iter())
+                        .map(|b| match b {
+                            BindingBody::Id(id) => BindingInput::Id(id),
+                            BindingBody::Scored { id, score } => BindingInput::Scored { id, score },
+                        })
+                        .collect();
+                    (variable, list)
+                })
+                .collect()
+        });
+        DirectiveInput {
+            action: d.action,
+            arguments: d.arguments.map(|a| a.into_iter().map(Into::into).collect()),
+            form: d.form,
+            bindings,
+        }
+    }
+}
+
+impl From<ReferenceBody> for ReferenceInput {
+    fn from(r: ReferenceBody) -> Self {
+        ReferenceInput {
+            id: r.id,
+            kind: r.kind,
+            attributes: r.attributes.map(texts),
+            properties: r.properties,
+        }
+    }
+}
+
+fn texts(attributes: BTreeMap<String, Scalar>) -> BTreeMap<String, String> {
+    attributes.into_iter().map(|(k, v)| (k, v.text())).collect()
+}
+
+impl From<SceneBody> for SceneInput {
+    fn from(s: SceneBody) -> Self {
+        SceneInput {
+            agent: AgentInput {
+                id: s.agent.id,
+                position: s.agent.position,
+                reach: s.agent.reach,
+                gripper_aperture: s.agent.gripper_aperture,
+                payload: s.agent.payload,
+                gripper_size: s.agent.gripper_size,
+            },
+            objects: s.objects.into_iter().map(Into::into).collect(),
+            facts: s.facts,
+        }
+    }
+}
+
+impl From<ObjectBody> for ObjectInput {
+    fn from(o: ObjectBody) -> Self {
+        ObjectInput {
+            id: o.id,
+            kind: o.kind,
+            properties: o.properties,
+            attributes: texts(o.attributes),
+            position: o.position,
+            shape: o.shape.map(|s| match s {
+                ShapeBody::Ball { radius } => Shape::Ball { radius },
+                ShapeBody::Cuboid { half_extents } => Shape::Cuboid { half_extents },
+                ShapeBody::Cylinder { radius, half_height } => Shape::Cylinder { radius, half_height },
+            }),
+            rotation: o.rotation,
+            mass: o.mass,
+        }
+    }
+}
+
+impl From<OptionsBody> for OptionsInput {
+    fn from(o: OptionsBody) -> Self {
+        OptionsInput {
+            strategy: o.strategy,
+            single_permissible: o.single_permissible,
+            style: o.style,
+            max_spoken: o.max_spoken,
+            max_readings: o.max_readings,
+            deadline_ms: o.deadline_ms,
+            confirm_above_ratio: o.confirm_above_ratio,
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Out of the engine
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct ReasonDto {
+    pub kind: String,
+    pub detail: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub norm_id: Option<i64>,
+    /// The norm's severity, 1..5, for a `forbidden_*` reason.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub severity: Option<u8>,
+    /// The reason in words, in the request's style ("it requires a forbidden state").
+    pub words: String,
+}
+
+/// Reasons with their words, as both decisions and checks report them.
+pub(super) fn reason_dtos(reasons: &[Reason], words: &[String]) -> Vec<ReasonDto> {
+    reasons
+        .iter()
+        .zip(words)
+        .map(|(reason, words)| ReasonDto {
+            kind: reason.kind().to_owned(),
+            detail: reason.detail(),
+            norm_id: reason.norm_id,
+            severity: reason.severity,
+            words: words.clone(),
+        })
+        .collect()
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct InterpretationDto {
+    pub action: String,
+    pub description: String,
+    pub permissible: bool,
+    pub feasible: bool,
+    pub reasons: Vec<ReasonDto>,
+    /// The primitive steps simulated, in order, as canonical terms.
+    pub plan: Vec<String>,
+    pub score: f64,
+}
+
+impl From<&Interpretation> for InterpretationDto {
+    fn from(i: &Interpretation) -> Self {
+        InterpretationDto {
+            action: i.action.to_string(),
+            description: i.description.clone(),
+            permissible: i.permissible(),
+            feasible: i.feasible(),
+            reasons: reason_dtos(&i.outcome.reasons, &i.reason_words),
+            plan: i.outcome.plan.iter().map(Term::to_string).collect(),
+            score: i.score,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct DecisionDto {
+    pub decision: String,
+    pub utterance: String,
+    pub speech_act: String,
+    pub goal: Option<String>,
+    pub interpretations: Vec<InterpretationDto>,
+    /// The readings the utterance proposes, in order: those a question names (a follow-up's
+    /// `choice` counts from 0 among them), or the one assumed, confirmed or obeyed.
+    pub offered: Vec<String>,
+    /// Present when a cap or the deadline kept readings from being simulated.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub limits: Option<LimitsDto>,
+    /// The version of the norm set this decision was made under.
+    pub norm_version: i64,
+    /// The version of the action library it was simulated with.
+    pub library_version: i64,
+    /// The human's words, as sent in `directive.text`.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub text: Option<String>,
+}
+
+/// Which limit was hit, and how much of the directive was simulated.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct LimitsDto {
+    /// `too_many_readings` (more than `options.max_readings`: none simulated) or `deadline`.
+    pub reason: String,
+    /// How many readings the directive has (saturating at the largest 64-bit number).
+    pub readings: u64,
+    pub simulated: u64,
+}
+
+impl From<&Limits> for LimitsDto {
+    fn from(l: &Limits) -> Self {
+        LimitsDto {
+            reason: l.kind.as_str().to_owned(),
+            readings: u64::try_from(l.readings).unwrap_or(u64::MAX),
+            simulated: l.simulated as u64,
+        }
+    }
+}
+
+impl DecisionDto {
+    pub fn new(decision: &Decision, text: Option<String>) -> Self {
+        DecisionDto {
+            decision: decision.kind.as_str().to_owned(),
+            utterance: decision.utterance.clone(),
+            speech_act: decision.speech_act.to_string(),
+            goal: decision.goal.as_ref().map(Term::to_string),
+            interpretations: decision.interpretations.iter().map(InterpretationDto::from).collect(),
+            offered: decision.offered.iter().map(Term::to_string).collect(),
+            limits: decision.limits.as_ref().map(LimitsDto::from),
+            norm_version: decision.norm_version,
+            library_version: decision.library_version,
+            text,
+        }
+    }
+}

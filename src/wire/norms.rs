@@ -1,0 +1,194 @@
+//! Norms, norm sets and the audit trail as the API shows them.
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use crate::engine::input::Spelled;
+use crate::engine::norms::{Norm, NormInput, NormKind};
+use crate::engine::term::Term;
+use crate::error::Error;
+
+/// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
+/// silently widen a norm.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NormBody {
+    /// Kept by an import (a restored backup keeps its ids); refused on create, and on replace
+    /// it must be the id in the path. Ids are otherwise assigned by the service.
+    pub id: Option<i64>,
+    /// Informational (an exported or fetched norm carries it); preconditions go in `If-Match`.
+    pub revision: Option<i64>,
+    pub kind: Option<String>,
+    pub action: Option<String>,
+    pub state: Option<String>,
+    pub when: Option<Vec<String>>,
+    pub context: Option<String>,
+    /// 1 (least) to 5 (most); absent: 3.
+    #[schema(minimum = 1, maximum = 5)]
+    pub severity: Option<i64>,
+    pub note: Option<String>,
+    /// When given, the norm applies only to speakers with one of these roles.
+    pub roles: Option<Vec<String>>,
+    /// The norm does not apply to speakers with any of these roles.
+    pub exempt_roles: Option<Vec<String>>,
+}
+
+impl NormBody {
+    /// For a create: the service assigns the id.
+    pub fn for_create(self) -> Result<NormInput, Error> {
+        if self.id.is_some() {
+            return Err(Error::invalid(
+                "/id",
+                "ids are assigned by the service; replace a norm with PUT /v1/norms/{id}",
+            ));
+        }
+        Ok(self.into_input())
+    }
+
+    /// For a replace of norm `id`: an id in the body must be that one.
+    pub fn for_replace(self, id: i64) -> Result<NormInput, Error> {
+        if let Some(given) = self.id
+            && given != id
+        {
+            return Err(Error::invalid(
+                "/id",
+                format!("the body names norm {given} but the request replaces norm {id}"),
+            ));
+        }
+        Ok(self.into_input())
+    }
+
+    pub fn into_input(self) -> NormInput {
+        NormInput {
+            kind: self.kind,
+            action: self.action,
+            state: self.state,
+            when: self.when,
+            context: self.context,
+            severity: self.severity,
+            note: self.note,
+            roles: self.roles,
+            exempt_roles: self.exempt_roles,
+        }
+    }
+}
+
+/// A stored norm, canonical: terms without spaces or types.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct NormDto {
+    pub id: i64,
+    /// The norm-set version at which this norm last changed; its ETag is this number quoted.
+    /// Send it back in `If-Match` to replace or delete it only if nobody has changed it since.
+    pub revision: i64,
+    pub kind: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub action: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub state: Option<String>,
+    pub when: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub context: Option<String>,
+    pub severity: u8,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub note: Option<String>,
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub roles: Vec<String>,
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub exempt_roles: Vec<String>,
+}
+
+impl From<&Norm> for NormDto {
+    fn from(norm: &Norm) -> Self {
+        let term = Some(norm.spec.term.to_string());
+        let (action, state) = match norm.spec.kind {
+            NormKind::ForbiddenAction => (term, None),
+            NormKind::ForbiddenState => (None, term),
+        };
+        NormDto {
+            id: norm.id,
+            revision: norm.revision,
+            kind: norm.spec.kind.as_str().to_owned(),
+            action,
+            state,
+            when: norm.spec.when.iter().map(Term::to_string).collect(),
+            context: norm.spec.context.clone(),
+            severity: norm.spec.severity,
+            note: norm.spec.note.clone(),
+            roles: norm.spec.roles.clone(),
+            exempt_roles: norm.spec.exempt_roles.clone(),
+        }
+    }
+}
+
+/// The whole norm set, as exported for backups and review, with the version it makes up (its
+/// ETag is this number quoted).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct NormSetDto {
+    pub version: i64,
+    pub norms: Vec<NormDto>,
+}
+
+/// A whole norm set to import: exactly what an export gives (its `version` is informational;
+/// the precondition goes in `If-Match`). Every norm is validated before anything is replaced.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NormSetBody {
+    pub version: Option<i64>,
+    pub norms: Vec<NormBody>,
+}
+
+/// One change to norms or verbs.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct AuditEntryDto {
+    /// Ascending in commit order; page with `?after=`.
+    pub id: i64,
+    /// When it committed: RFC 3339, UTC.
+    pub at: String,
+    /// The label of the token that made it (`admin` for `--admin-token`, `anonymous` when no
+    /// token is configured).
+    pub actor: String,
+    /// `norm`, `action` or `norm_set`.
+    pub subject: String,
+    /// `create`, `replace`, `delete` or `import`.
+    pub operation: String,
+    /// The norm id or verb name; absent for a whole-set import.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub target: Option<String>,
+    /// The norm or verb before (absent for a create), as the API shows it; for an import, the
+    /// whole set as a list.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub before: Option<serde_json::Value>,
+    /// After (absent for a delete).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub after: Option<serde_json::Value>,
+    /// The version of the norm set (or action library) once the change committed.
+    pub version: i64,
+}
+
+impl From<crate::storage::AuditEntry> for AuditEntryDto {
+    fn from(e: crate::storage::AuditEntry) -> Self {
+        AuditEntryDto {
+            id: e.id,
+            at: e.at,
+            actor: e.actor,
+            subject: e.subject,
+            operation: e.operation,
+            target: e.target,
+            before: e.before,
+            after: e.after,
+            version: e.version,
+        }
+    }
+}
+
+/// A page of the audit trail.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct AuditPageDto {
+    pub entries: Vec<AuditEntryDto>,
+    /// Pass as `after` for the next page (the last id here, or the `after` asked for).
+    pub next_after: i64,
+}
+
+/// Default and largest page of the audit trail.
+pub const DEFAULT_AUDIT_PAGE: i64 = 100;
+pub const MAX_AUDIT_PAGE: i64 = 1_000;
