@@ -415,9 +415,10 @@ impl Core {
         .map_err(|e| Error::Internal(format!("the check task failed: {e}")))
     }
 
-    /// Validates and stores a norm; nothing is written unless every field is valid.
-    pub async fn create_norm(&self, input: NormInput, actor: &str) -> Result<Norm, Error> {
-        let spec = input.validate()?;
+    /// Validates and stores a norm under a fresh id; nothing is written unless every field is
+    /// valid. `given_id`: the id the request carried, which must be none.
+    pub async fn create_norm(&self, given_id: Option<i64>, input: NormInput, actor: &str) -> Result<Norm, Error> {
+        let spec = norm_to_create(given_id, input)?;
         Ok(self.store()?.create(&spec, actor).await?)
     }
 
@@ -431,13 +432,23 @@ impl Core {
 
     /// Replaces a norm's content (its id stays) when `expected` is its revision, or always
     /// without one; nothing is written unless every field is valid and the revision matches.
+    /// `given_id`: the id the request's norm carried, which must be none or `id`.
     pub async fn replace_norm(
         &self,
         id: i64,
+        given_id: Option<i64>,
         input: NormInput,
         expected: Option<i64>,
         actor: &str,
     ) -> Result<Norm, Error> {
+        if let Some(given) = given_id
+            && given != id
+        {
+            return Err(Error::invalid(
+                "/id",
+                format!("the body names norm {given} but the request replaces norm {id}"),
+            ));
+        }
         let spec = input.validate()?;
         written(id, expected, self.store()?.replace(id, &spec, expected, actor).await?)
     }
@@ -473,9 +484,19 @@ impl Core {
         }
     }
 
-    /// Up to `limit` audit entries after entry `after`, oldest first.
-    pub async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, Error> {
-        Ok(self.store()?.audit(after, limit).await?)
+    /// Up to `limit` (1..=[`MAX_AUDIT_PAGE`], default [`DEFAULT_AUDIT_PAGE`]) audit entries
+    /// after entry `after`, oldest first.
+    pub async fn audit(&self, after: i64, limit: Option<i64>) -> Result<AuditPage, Error> {
+        let limit = limit.unwrap_or(DEFAULT_AUDIT_PAGE);
+        if !(1..=MAX_AUDIT_PAGE).contains(&limit) {
+            return Err(Error::invalid(
+                "/limit",
+                format!("{limit} is out of range 1..={MAX_AUDIT_PAGE}"),
+            ));
+        }
+        let entries = self.store()?.audit(after, limit).await?;
+        let next_after = entries.last().map_or(after, |e| e.id);
+        Ok(AuditPage { entries, next_after })
     }
 
     /// Every verb, by name, as written.
@@ -525,6 +546,29 @@ impl Core {
             })
         }
     }
+}
+
+/// Default and largest page of the audit trail.
+pub const DEFAULT_AUDIT_PAGE: i64 = 100;
+pub const MAX_AUDIT_PAGE: i64 = 1_000;
+
+/// A page of the audit trail, and where the next one starts.
+#[derive(Debug)]
+pub struct AuditPage {
+    pub entries: Vec<AuditEntry>,
+    /// The last id here, or the `after` asked for.
+    pub next_after: i64,
+}
+
+/// A norm to create: the service assigns ids, so an id given is refused.
+pub fn norm_to_create(given_id: Option<i64>, input: NormInput) -> Result<NormSpec, Error> {
+    if given_id.is_some() {
+        return Err(Error::invalid(
+            "/id",
+            "ids are assigned by the service; replace a norm with PUT /v1/norms/{id}",
+        ));
+    }
+    Ok(input.validate()?)
 }
 
 /// Validates a whole norm set as an import takes it: ids given must be distinct and positive

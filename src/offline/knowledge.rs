@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::{Failure, Knowledge, read_input};
-use crate::core::{Core, Settings, validate_norm_set};
+use crate::core::{Core, Settings, norm_to_create, validate_norm_set};
 use crate::engine::Library;
 use crate::engine::norms::{CompiledNorms, Norm, NormSpec};
 use crate::error::Error;
@@ -109,11 +109,7 @@ pub fn norms_from_bytes(bytes: &[u8]) -> Result<CompiledNorms, Error> {
                     Error::Invalid { field, detail } => Error::invalid(format!("/{i}{field}"), detail),
                     other => other,
                 };
-                let spec = body
-                    .for_create()
-                    .map_err(at)?
-                    .validate()
-                    .map_err(|e| Error::invalid(format!("/{i}{}", e.field), e.message))?;
+                let spec = norm_to_create(body.id, body.into_input()).map_err(at)?;
                 let id = i as i64 + 1;
                 norms.push(Norm { id, revision: id, spec });
             }

@@ -21,9 +21,7 @@ pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
     ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody,
 };
-pub use norms::{
-    AuditEntryDto, AuditPageDto, DEFAULT_AUDIT_PAGE, MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto,
-};
+pub use norms::{AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto};
 pub use verbs::{ActionSchema, MethodSchema};
 
 /// Parses a JSON body. Text that is not JSON is a 400; JSON of the wrong shape is a 422 whose

@@ -6,7 +6,6 @@ use utoipa::ToSchema;
 use crate::engine::input::Spelled;
 use crate::engine::norms::{Norm, NormInput, NormKind};
 use crate::engine::term::Term;
-use crate::error::Error;
 
 /// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
 /// silently widen a norm.
@@ -34,30 +33,7 @@ pub struct NormBody {
 }
 
 impl NormBody {
-    /// For a create: the service assigns the id.
-    pub fn for_create(self) -> Result<NormInput, Error> {
-        if self.id.is_some() {
-            return Err(Error::invalid(
-                "/id",
-                "ids are assigned by the service; replace a norm with PUT /v1/norms/{id}",
-            ));
-        }
-        Ok(self.into_input())
-    }
-
-    /// For a replace of norm `id`: an id in the body must be that one.
-    pub fn for_replace(self, id: i64) -> Result<NormInput, Error> {
-        if let Some(given) = self.id
-            && given != id
-        {
-            return Err(Error::invalid(
-                "/id",
-                format!("the body names norm {given} but the request replaces norm {id}"),
-            ));
-        }
-        Ok(self.into_input())
-    }
-
+    /// The norm's members; its `id` and `revision` are the request's to place.
     pub fn into_input(self) -> NormInput {
         NormInput {
             kind: self.kind,
@@ -188,7 +164,3 @@ pub struct AuditPageDto {
     /// Pass as `after` for the next page (the last id here, or the `after` asked for).
     pub next_after: i64,
 }
-
-/// Default and largest page of the audit trail.
-pub const DEFAULT_AUDIT_PAGE: i64 = 100;
-pub const MAX_AUDIT_PAGE: i64 = 1_000;

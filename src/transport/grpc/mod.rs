@@ -13,10 +13,7 @@ use crate::engine::action::ActionInput;
 use crate::error::Error;
 use crate::transport::auth::Access;
 use crate::transport::{AppState, Arrival};
-use crate::wire::{
-    AuditEntryDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto, MAX_AUDIT_PAGE, NormBody,
-    NormDto, NormSetDto,
-};
+use crate::wire::{AuditEntryDto, CheckBody, CheckDto, ClarifyBody, DecisionDto, NormBody, NormDto, NormSetDto};
 
 /// Generated from `proto/scruple/v1/scruple.proto`.
 pub mod pb {
@@ -109,7 +106,9 @@ impl Norms for NormsService {
     async fn create_norm(&self, request: Request<pb::CreateNormRequest>) -> Result<Response<pb::Norm>, Status> {
         let actor = authorize(&self.state, &request, Access::Write)?;
         let body = NormBody::from(request.into_inner());
-        let norm = self.state.core.create_norm(body.for_create()?, &actor).await?;
+        let norm = (self.state.core)
+            .create_norm(body.id, body.into_input(), &actor)
+            .await?;
         Ok(Response::new(NormDto::from(&norm).into()))
     }
 
@@ -138,9 +137,14 @@ impl Norms for NormsService {
                 .norm
                 .ok_or_else(|| Error::invalid("/norm", "missing field `norm`"))?,
         );
-        let input = body.for_replace(request.id)?;
         let norm = (self.state.core)
-            .replace_norm(request.id, input, request.expected_revision, &actor)
+            .replace_norm(
+                request.id,
+                body.id,
+                body.into_input(),
+                request.expected_revision,
+                &actor,
+            )
             .await?;
         Ok(Response::new(NormDto::from(&norm).into()))
     }
@@ -199,15 +203,14 @@ impl Norms for NormsService {
     ) -> Result<Response<pb::ListAuditResponse>, Status> {
         authorize(&self.state, &request, Access::Read)?;
         let request = request.into_inner();
-        let limit = request.limit.unwrap_or(DEFAULT_AUDIT_PAGE);
-        if !(1..=MAX_AUDIT_PAGE).contains(&limit) {
-            return Err(Error::invalid("/limit", format!("{limit} is out of range 1..={MAX_AUDIT_PAGE}")).into());
-        }
-        let entries = self.state.core.audit(request.after, limit).await?;
-        let next_after = entries.last().map_or(request.after, |e| e.id);
+        let page = self.state.core.audit(request.after, request.limit).await?;
         Ok(Response::new(pb::ListAuditResponse {
-            entries: entries.into_iter().map(|e| AuditEntryDto::from(e).into()).collect(),
-            next_after,
+            entries: page
+                .entries
+                .into_iter()
+                .map(|e| AuditEntryDto::from(e).into())
+                .collect(),
+            next_after: page.next_after,
         }))
     }
 }

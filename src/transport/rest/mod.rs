@@ -22,8 +22,8 @@ use crate::transport::auth::Access;
 use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 use crate::wire::{
-    ActionSchema, AuditEntryDto, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DEFAULT_AUDIT_PAGE, DecisionDto,
-    MAX_AUDIT_PAGE, NormBody, NormDto, NormSetBody, NormSetDto, parse_json,
+    ActionSchema, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DecisionDto, NormBody, NormDto, NormSetBody,
+    NormSetDto, parse_json,
 };
 
 mod coding;
@@ -295,7 +295,7 @@ async fn create_norm(
     Writer(actor): Writer,
     JsonBody(body): JsonBody<NormBody>,
 ) -> Result<Response, Error> {
-    let norm = app.core.create_norm(body.for_create()?, &actor).await?;
+    let norm = app.core.create_norm(body.id, body.into_input(), &actor).await?;
     let mut response = (StatusCode::CREATED, Json(NormDto::from(&norm))).into_response();
     if let Ok(location) = HeaderValue::from_str(&format!("/v1/norms/{}", norm.id)) {
         response.headers_mut().insert(header::LOCATION, location);
@@ -348,7 +348,7 @@ async fn replace_norm(
     let expected = norm_revision(&app, id, if_match).await?;
     let norm = app
         .core
-        .replace_norm(id, body.for_replace(id)?, expected, &actor)
+        .replace_norm(id, body.id, body.into_input(), expected, &actor)
         .await?;
     Ok(with_etag(Json(NormDto::from(&norm)).into_response(), norm.revision))
 }
@@ -476,22 +476,12 @@ impl AuditQuery {
 async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
     let query = AuditQuery::parse(request.uri().query().unwrap_or_default())?;
     let after = query.after.unwrap_or(0);
-    let limit = query.limit.unwrap_or(DEFAULT_AUDIT_PAGE);
-    if !(1..=MAX_AUDIT_PAGE).contains(&limit) {
-        return Err(Error::invalid(
-            "/limit",
-            format!("{limit} is out of range 1..={MAX_AUDIT_PAGE}"),
-        ));
-    }
-    let entries: Vec<AuditEntryDto> = app
-        .core
-        .audit(after, limit)
-        .await?
-        .into_iter()
-        .map(Into::into)
-        .collect();
-    let next_after = entries.last().map_or(after, |e| e.id);
-    Ok(Json(AuditPageDto { entries, next_after }))
+    let page = app.core.audit(after, query.limit).await?;
+    let entries = page.entries.into_iter().map(Into::into).collect();
+    Ok(Json(AuditPageDto {
+        entries,
+        next_after: page.next_after,
+    }))
 }
 
 #[utoipa::path(post, path = "/v1/clarify", tag = "clarify",
