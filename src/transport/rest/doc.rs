@@ -154,4 +154,60 @@ pub mod problems {
             ])
         }
     }
+
+    /// What an operation that reads or writes the store can end in when the store does not
+    /// answer (`Error::NormsUnavailable`, `Error::Overloaded`).
+    pub struct Store;
+
+    impl utoipa::IntoResponses for Store {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[(
+                "503",
+                "The store cannot be read now, or is too busy; nothing was changed. `Retry-After` says when to try again",
+            )])
+        }
+    }
+
+    /// What a decision or a check ends in when the norms or verbs cannot be read: no answer
+    /// rather than one made under no norms.
+    pub struct FailClosed;
+
+    impl utoipa::IntoResponses for FailClosed {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[(
+                "503",
+                "The norms or verbs cannot be read now, or the service is too busy: no decision is made (fail closed). `Retry-After` says when to try again",
+            )])
+        }
+    }
+
+    /// An operation on `/v1/norms/{id}` whose norm does not exist.
+    pub struct NoNorm;
+
+    impl utoipa::IntoResponses for NoNorm {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[("404", "No norm has that id")])
+        }
+    }
+
+    /// An operation on `/v1/actions/{name}` whose verb does not exist.
+    pub struct NoVerb;
+
+    impl utoipa::IntoResponses for NoVerb {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[("404", "No such verb")])
+        }
+    }
+
+    /// A conditional write (`If-Match`) whose precondition no longer holds (`Error::Stale`).
+    pub struct Changed;
+
+    impl utoipa::IntoResponses for Changed {
+        fn responses() -> BTreeMap<String, RefOr<Response>> {
+            set(&[(
+                "412",
+                "What `If-Match` names has changed since (its revision or version moved); nothing was written",
+            )])
+        }
+    }
 }

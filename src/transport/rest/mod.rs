@@ -245,7 +245,7 @@ fn norm_id(text: &str) -> Result<i64, Error> {
     description = "Reports the outcome of the last read of what a decision needs, by a request or by a probe at most a second old; it never reads the store itself, so it answers at once under any load.",
     responses(
         (status = 200, description = "Ready", body = doc::Health, example = json!({"status": "ok"})),
-        (status = 503, description = "The norm store cannot be read", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
     ))]
 async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>, Error> {
     app.core.readiness()?;
@@ -268,7 +268,7 @@ async fn metrics(State(app): State<AppState>) -> Response {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The norms", body = Vec<NormDto>),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<NormDto>>, Error> {
@@ -286,7 +286,7 @@ async fn list_norms(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<N
          example = json!({"id": 2, "revision": 2, "kind": "forbidden_state", "state": "did(self,get(object3))", "when": [], "severity": 3, "note": "the fragile vase may not be got"})),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "6 is out of range 1..5", "field": "/severity"})),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
     ))]
@@ -309,8 +309,8 @@ async fn create_norm(
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The norm", body = NormDto, headers(("etag" = String, description = "The revision, quoted"))),
-        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::NoNorm,
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>) -> Result<Response, Error> {
@@ -330,10 +330,10 @@ async fn get_norm(State(app): State<AppState>, _: Reader, Path(id): Path<String>
     responses(
         (status = 200, description = "Replaced; the norm as stored, its new revision in `ETag`", body = NormDto,
          headers(("etag" = String, description = "The new revision, quoted"))),
-        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
-        (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::NoNorm,
+        doc::problems::Changed,
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
     ))]
@@ -362,9 +362,9 @@ async fn replace_norm(
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 404, description = "No norm has that id", body = Problem, content_type = PROBLEM_JSON),
-        (status = 412, description = "The norm has changed since the revision in `If-Match`; nothing was removed", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::NoNorm,
+        doc::problems::Changed,
+        doc::problems::Store,
         doc::problems::WriteToken,
     ))]
 async fn delete_norm(
@@ -385,7 +385,7 @@ async fn delete_norm(
     responses(
         (status = 200, description = "Every norm and the version they make up (also the `ETag`)", body = NormSetDto,
          headers(("etag" = String, description = "The norm-set version, quoted"))),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response, Error> {
@@ -406,9 +406,9 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
     responses(
         (status = 200, description = "Imported; the set as stored, its version in `ETag`", body = NormSetDto,
          headers(("etag" = String, description = "The new norm-set version, quoted"))),
-        (status = 412, description = "The set has changed since the version in `If-Match`; nothing was written", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Changed,
         (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
     ))]
@@ -470,7 +470,7 @@ impl AuditQuery {
     responses(
         (status = 200, description = "A page of entries", body = AuditPageDto),
         (status = 422, description = "`after` or `limit` is not an integer, or `limit` is out of range; `field` names it", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norm store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
@@ -492,7 +492,7 @@ async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Resu
         (status = 200, description = "The decision, its words and every reading considered", body = DecisionDto, example = json!(doc::vase_response())),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON,
          example = json!({"type": "/problems/invalid-field", "title": "Invalid field", "status": 422, "detail": "no object `object9` in the scene", "field": "/directive/arguments/0/id"})),
-        (status = 503, description = "The norms cannot be read: no decision is made (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::FailClosed,
         doc::problems::JsonBody,
     ))]
 async fn clarify(
@@ -527,7 +527,7 @@ async fn clarify(
         (status = 200, description = "Each step's verdict, and whether all may be done", body = CheckDto,
          example = json!({"permitted": true, "steps": [{"step": "get(object4)", "permissible": true, "feasible": true, "reasons": [], "plan": ["get(object4)"]}], "utterance": "Okay.", "norm_version": 3})),
         (status = 422, description = "A field is wrong; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The norms cannot be read: nothing is permitted (fail closed)", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::FailClosed,
         doc::problems::JsonBody,
     ))]
 async fn check(
@@ -555,7 +555,7 @@ fn verb_name(text: &str) -> Result<&str, Error> {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "The verbs", body = Vec<ActionSchema>),
-        (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec<ActionInput>>, Error> {
@@ -569,8 +569,8 @@ async fn list_actions(State(app): State<AppState>, _: Reader) -> Result<Json<Vec
     responses(
         (status = 200, description = "The verb", body = ActionSchema,
          example = json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})),
-        (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The library cannot be read", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::NoVerb,
+        doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn get_action(
@@ -590,7 +590,7 @@ async fn get_action(
         (status = 200, description = "Replaced; the verb as stored", body = ActionSchema),
         (status = 201, description = "Added; the verb as stored", body = ActionSchema),
         (status = 422, description = "A field is wrong, or the steps would loop; `field` points at it", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
     ))]
@@ -613,8 +613,8 @@ async fn put_action(
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
-        (status = 404, description = "No such verb", body = Problem, content_type = PROBLEM_JSON),
-        (status = 503, description = "The store is unavailable", body = Problem, content_type = PROBLEM_JSON),
+        doc::problems::NoVerb,
+        doc::problems::Store,
         doc::problems::WriteToken,
     ))]
 async fn delete_action(
