@@ -9,13 +9,16 @@ use sqlx::{ConnectOptions, Connection};
 
 use crate::helpers::{assert_problem, get_vase, spawn_app};
 
-async fn tamper(app: &crate::helpers::TestApp, sql: &'static str) {
+async fn tamper(app: &crate::helpers::TestApp, sql: &str) {
     let mut connection = SqliteConnectOptions::new()
         .filename(&app.db_path)
         .connect()
         .await
         .expect("open the database");
-    sqlx::query(sql).execute(&mut connection).await.expect("tamper");
+    sqlx::raw_sql(sqlx::AssertSqlSafe(sql.to_owned()))
+        .execute(&mut connection)
+        .await
+        .expect("tamper");
     connection.close().await.unwrap();
 }
 
@@ -75,6 +78,41 @@ async fn a_corrupt_norm_row_fails_closed_rather_than_being_skipped() {
         None,
     )
     .await;
+}
+
+#[tokio::test]
+async fn a_stored_norm_the_rules_refuse_fails_closed_naming_the_norm_and_the_field() {
+    let destroy = json!({"directive": {"action": "destroy", "arguments": [{"type": "mug"}]}, "scene": crate::helpers::lab_scene()});
+    // Each row parses as terms and lists, as the reader before the shared validation took it;
+    // NormInput::validate refuses it, so decisions stop until it is mended.
+    for (tamper_sql, field) in [
+        (
+            "UPDATE norms SET roles_json = '[\"owner\"]', exempt_roles_json = '[\"owner\"]'",
+            "/exempt_roles",
+        ),
+        ("UPDATE norms SET term = 'X'", "/action"),
+        ("UPDATE norms SET roles_json = '[\"not a role!\"]'", "/roles/0"),
+    ] {
+        let app = spawn_app().await;
+        app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+            .await;
+        tamper(
+            &app,
+            &format!("{tamper_sql}; UPDATE norm_set SET version = version + 1"),
+        )
+        .await;
+        let problem = assert_problem(
+            app.post("/v1/clarify", &destroy).await,
+            StatusCode::SERVICE_UNAVAILABLE,
+            None,
+        )
+        .await;
+        let detail = problem["detail"].as_str().unwrap_or_default();
+        assert!(
+            detail.contains("norm 1") && detail.contains(field),
+            "{tamper_sql}: {detail}"
+        );
+    }
 }
 
 #[tokio::test]
