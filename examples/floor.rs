@@ -60,6 +60,7 @@ fn answer() -> DecisionDto {
         norm_version: 3,
         library_version: 1,
         text: None,
+        parse: None,
     }
 }
 

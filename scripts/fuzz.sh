@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the term parser and the clarify request path with cargo-fuzz (libFuzzer), each target for
+# Fuzzes the term parser, the clarify request path and the reading of directives in words with cargo-fuzz (libFuzzer), each target for
 # a bounded time, starting from the committed seeds and whatever fuzz/corpus/ kept from earlier
 # runs. Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 60; use hours for a long hunt)
 # Exits nonzero when any target crashes (a panic is a crash) or hangs past libFuzzer's timeout;
@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 [[ "$seconds" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz: SECONDS_PER_TARGET must be a positive integer" >&2; exit 2; }
-targets=(term_parser clarify_request)
+targets=(term_parser clarify_request directive_words)
 
 if ! cargo fuzz --version >/dev/null 2>&1; then
   echo "fuzz: installing cargo-fuzz"

@@ -15,7 +15,9 @@ use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, CheckInput, CheckRequest, check};
 use crate::engine::clarify::clarify;
 use crate::engine::decision::Decision;
-pub use crate::engine::input::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
+pub use crate::engine::input::{
+    DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES, RequestLimits,
+};
 use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
 use crate::engine::request::{Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
@@ -48,11 +50,13 @@ enum Source {
     Fixed(Knowledge),
 }
 
-/// The verb a directive names and its arity (a form's action), for its expansion cost.
-fn verb_of(directive: &Directive) -> (&str, usize) {
+/// The most steps one reading of the directive may expand to: its verb's, or, for words not
+/// yet read, the costliest verb's.
+fn expansion_of(directive: &Directive, library: &Library) -> u64 {
     match directive {
-        Directive::Action { verb, arguments } => (verb, arguments.len()),
-        Directive::Form { action, .. } => (action.name().map_or("", |n| &**n), action.arity()),
+        Directive::Action { verb, arguments } => library.expansion(verb, arguments.len()),
+        Directive::Form { action, .. } => library.expansion(action.name().map_or("", |n| &**n), action.arity()),
+        Directive::Words { .. } => library.most_expansion(),
     }
 }
 
@@ -67,6 +71,8 @@ fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
         Directive::Form { bindings, .. } => bindings
             .iter()
             .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
+        // Words name at most two references.
+        Directive::Words { .. } => objects.saturating_mul(objects),
     }
 }
 
@@ -284,9 +290,11 @@ impl Core {
             None => {
                 count(Cache::Library, Outcome::Refresh);
                 let (version, verbs) = store.load_actions().await.map_err(unavailable)?;
-                let fresh = Library::from_written(version, &verbs).map_err(|(name, e)| {
-                    Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
-                })?;
+                let fresh = Library::from_written(version, &verbs)
+                    .and_then(|library| library.check_words("").map(|()| library))
+                    .map_err(|(name, e)| {
+                        Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
+                    })?;
                 let fresh = Arc::new(fresh);
                 keep_newer(&self.library, &fresh, |l| l.version)?;
                 fresh
@@ -319,9 +327,8 @@ impl Core {
         let deadline = arrived + deadline;
         let (_guard, expired) = stop_signal(deadline);
         let Knowledge { norms, library } = self.knowledge_by(deadline).await?;
-        let (verb, arity) = verb_of(&request.directive);
-        let steps =
-            at_most_readings(&request.directive, &scene).saturating_mul(u128::from(library.expansion(verb, arity)));
+        let steps = at_most_readings(&request.directive, &scene)
+            .saturating_mul(u128::from(expansion_of(&request.directive, &library)));
         let small = steps <= INLINE_STEPS;
         let turn = if small {
             None
@@ -527,6 +534,7 @@ impl Core {
             // The expansion bound holds for what is written from now on; a library stored before
             // it still loads, and the deadline bounds its cost.
             Library::from_written(0, all)
+                .and_then(|library| library.check_words(&this).map(|()| library))
                 .and_then(|library| library.check_expansion(&this))
                 .map_err(|(verb, e)| {
                     let field = if verb == this { e.field } else { "/methods".to_owned() };

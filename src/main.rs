@@ -10,7 +10,9 @@ use std::time::Duration;
 use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
 use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
-use scruple::core::{DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, RequestLimits};
+use scruple::core::{
+    DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES, RequestLimits,
+};
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
 use scruple::offline::{self, Failure, Sources, Summary};
 use scruple::transport::admission::{
@@ -221,6 +223,9 @@ struct ServeArgs {
     /// Longest `options.deadline_ms` a request may ask for, milliseconds.
     #[arg(long, env = "SCRUPLE_MAX_DEADLINE_MS", default_value_t = DEFAULT_MAX_DEADLINE_MS)]
     max_deadline_ms: u64,
+    /// Longest human's words a directive may carry in `text`, bytes; longer is a 422.
+    #[arg(long, env = "SCRUPLE_MAX_TEXT_BYTES", default_value_t = DEFAULT_MAX_TEXT_BYTES)]
+    max_text_bytes: usize,
     /// Requests worked on at once; the next ones queue.
     #[arg(long, env = "SCRUPLE_MAX_CONCURRENT", default_value_t = DEFAULT_MAX_CONCURRENT)]
     max_concurrent: usize,
@@ -314,6 +319,7 @@ impl ServeArgs {
                 },
                 default_deadline_ms: self.deadline_ms,
                 max_deadline_ms: self.max_deadline_ms,
+                max_text_bytes: self.max_text_bytes,
             },
             admission: AdmissionConfig {
                 max_concurrent: self.max_concurrent,

@@ -54,6 +54,11 @@ pub struct ActionDef {
     pub distinct: bool,
     /// Tried in order; at least one.
     pub methods: Vec<Method>,
+    /// Phrases that name the verb in words ("pick up"), lower case, single-spaced; a phrase names
+    /// one verb only.
+    pub words: Vec<String>,
+    /// For a verb of two parameters: the words understood between its arguments ("into").
+    pub joiners: Vec<String>,
 }
 
 impl ActionDef {
@@ -101,6 +106,13 @@ pub struct ActionInput {
     /// One or more ways of carrying the verb out; a reading is acceptable when any is.
     #[serde(default)]
     pub methods: Vec<MethodInput>,
+    /// Phrases that name the verb when a directive comes in words: `["get", "pick up"]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub words: Vec<String>,
+    /// For a verb of two parameters, the words understood between its arguments in words:
+    /// `["on", "onto", "into"]`. `joiner` stays the one word spoken.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joiners: Vec<String>,
 }
 
 /// One way of carrying a verb out. Terms are written over the verb's parameters.
@@ -154,6 +166,48 @@ pub fn verb_name(name: &str) -> Result<(), String> {
 
 pub const MAX_METHODS: usize = 8;
 pub const MAX_ITEMS: usize = 32;
+/// Most phrases naming one verb, and most words in one phrase.
+pub const MAX_WORDS: usize = 16;
+pub const MAX_PHRASE_WORDS: usize = 3;
+/// Most joiners of one verb.
+pub const MAX_JOINERS: usize = 8;
+
+/// A phrase as words are matched: lower case, one space between words.
+pub fn normalise_phrase(text: &str) -> String {
+    text.split_whitespace()
+        .map(str::to_lowercase)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Phrases of 1 to `most_words` words of letters, each listed once, normalised; `field` names
+/// the list.
+fn phrases(field: &str, list: &[String], most: usize, most_words: usize) -> Result<Vec<String>, Invalid> {
+    if list.len() > most {
+        return Err(Invalid::new(field, format!("at most {most}")));
+    }
+    let mut out: Vec<String> = Vec::with_capacity(list.len());
+    for (i, text) in list.iter().enumerate() {
+        let phrase = normalise_phrase(text);
+        let count = phrase.split(' ').count();
+        let letters = phrase.chars().all(|c| c.is_ascii_lowercase() || c == ' ');
+        if phrase.is_empty() || phrase.len() > 32 || count > most_words || !letters {
+            let shape = if most_words == 1 { "one word" } else { "1 to 3 words" };
+            return Err(Invalid::new(
+                format!("{field}/{i}"),
+                format!("`{text}` is not {shape} of letters (at most 32 bytes)"),
+            ));
+        }
+        if out.contains(&phrase) {
+            return Err(Invalid::new(
+                format!("{field}/{i}"),
+                format!("`{phrase}` is listed twice"),
+            ));
+        }
+        out.push(phrase);
+    }
+    Ok(out)
+}
 
 impl ActionInput {
     /// Validates every field; the verb is named by the caller (the path of the request).
@@ -202,12 +256,19 @@ impl ActionInput {
         if self.distinct && params.len() < 2 {
             return Err(Invalid::new("/distinct", "`distinct` needs two or more parameters"));
         }
+        let words = phrases("/words", &self.words, MAX_WORDS, MAX_PHRASE_WORDS)?;
+        let joiners = phrases("/joiners", &self.joiners, MAX_JOINERS, 1)?;
+        if !joiners.is_empty() && params.len() != 2 {
+            return Err(Invalid::new("/joiners", "joiners go with a verb of two parameters"));
+        }
         Ok(ActionDef {
             name: Sym::from(name),
             params,
             joiner: self.joiner.clone(),
             distinct: self.distinct,
             methods,
+            words,
+            joiners,
         })
     }
 }
@@ -305,6 +366,8 @@ impl ActionDef {
             parameters: names(&self.params),
             joiner: self.joiner.clone(),
             distinct: self.distinct,
+            words: self.words.clone(),
+            joiners: self.joiners.clone(),
             methods: self
                 .methods
                 .iter()
@@ -410,6 +473,11 @@ impl Library {
         self.costs().get(&(Sym::from(name), arity)).copied().unwrap_or(1)
     }
 
+    /// The costliest verb's steps per reading.
+    pub fn most_expansion(&self) -> u64 {
+        self.costs().values().copied().max().unwrap_or(1)
+    }
+
     /// Every verb's cost. The library has no cycles, so each is the sum over its methods' steps
     /// of the costs of the verbs they call, worked out callees first.
     fn costs(&self) -> &HashMap<(Sym, usize), u64> {
@@ -442,6 +510,28 @@ impl Library {
                 Step::Do(t) => t.name().map_or(1, |n| callee(&(n.clone(), t.arity()))),
             })
             .fold(0u64, u64::saturating_add)
+    }
+
+    /// Refuses a library in which a phrase names two verbs: the error names the verb at fault,
+    /// the phrase and the verb that has it. `first` (the verb being stored) is looked at before
+    /// the others, so that a clash it makes is reported on it.
+    pub fn check_words(&self, first: &str) -> Result<(), (String, Invalid)> {
+        let mut order: Vec<&ActionDef> = self.defs.values().collect();
+        order.sort_by_key(|d| (&*d.name != first, d.name.clone()));
+        for def in &order {
+            for (i, word) in def.words.iter().enumerate() {
+                if let Some(other) = order.iter().find(|o| o.name != def.name && o.words.contains(word)) {
+                    return Err((
+                        def.name.to_string(),
+                        Invalid::new(
+                            format!("/words/{i}"),
+                            format!("`{word}` already names the verb `{}`", other.name),
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Refuses a library in which some verb expands past [`MAX_EXPANSION`] steps: the error names
@@ -491,11 +581,13 @@ impl Library {
 
     /// The contract's default library.
     pub fn default_library() -> Library {
-        let one = |name: &str, reach: &[&str], grasp: &[&str], adds: &[&str]| ActionDef {
+        let one = |name: &str, words: &[&str], reach: &[&str], grasp: &[&str], adds: &[&str]| ActionDef {
             name: Sym::from(name),
             params: vec![Sym::from("X")],
             joiner: None,
             distinct: false,
+            words: words.iter().map(|w| (*w).to_owned()).collect(),
+            joiners: vec![],
             methods: vec![Method {
                 reach: reach.iter().map(|p| Sym::from(*p)).collect(),
                 grasp: grasp.iter().map(|p| Sym::from(*p)).collect(),
@@ -511,6 +603,10 @@ impl Library {
             params: vec![Sym::from("X"), Sym::from("Y")],
             joiner: Some("on".into()),
             distinct: true,
+            words: ["put", "place", "set", "position"].map(String::from).to_vec(),
+            joiners: ["on", "onto", "in", "into", "upon", "inside"]
+                .map(String::from)
+                .to_vec(),
             methods: vec![Method {
                 reach: vec![Sym::from("X"), Sym::from("Y")],
                 // X was grasped by the get step.
@@ -524,89 +620,26 @@ impl Library {
         };
         let mut library = Library::default();
         for def in [
-            one("get", &["X"], &["X"], &["holding(self,X)"]),
-            one("pointTo", &[], &[], &[]),
-            one("destroy", &["X"], &[], &["destroyed(X)"]),
-            one("steal", &["X"], &["X"], &["holding(self,X)"]),
+            one(
+                "get",
+                &["get", "grab", "take", "pick up", "fetch", "bring", "hand"],
+                &["X"],
+                &["X"],
+                &["holding(self,X)"],
+            ),
+            one("pointTo", &["point to", "point at"], &[], &[], &[]),
+            one(
+                "destroy",
+                &["destroy", "break", "smash", "wreck"],
+                &["X"],
+                &[],
+                &["destroyed(X)"],
+            ),
+            one("steal", &["steal"], &["X"], &["X"], &["holding(self,X)"]),
             put,
         ] {
             library.insert(def).expect("the default library has no cycles");
         }
         library
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn input(json: &str) -> ActionInput {
-        serde_json::from_str(json).unwrap()
-    }
-
-    #[test]
-    fn the_default_library_round_trips_through_its_written_form() {
-        let library = Library::default_library();
-        for def in library.verbs() {
-            let written = def.to_input();
-            assert_eq!(&written.validate(&def.name).unwrap(), def, "{}", def.name);
-        }
-    }
-
-    #[test]
-    fn validation_names_the_field_at_fault() {
-        let cases = [
-            (r#"{"parameters": ["x"], "methods": [{}]}"#, "/parameters/0"),
-            (r#"{"parameters": ["X", "X"], "methods": [{}]}"#, "/parameters/1"),
-            (r#"{"parameters": ["X"], "methods": []}"#, "/methods"),
-            (
-                r#"{"parameters": ["X"], "methods": [{"adds": ["open(Y)"]}]}"#,
-                "/methods/0/adds/0",
-            ),
-            (
-                r#"{"parameters": ["X"], "methods": [{"reach": ["Y"]}]}"#,
-                "/methods/0/reach/0",
-            ),
-            (
-                r#"{"parameters": ["X"], "methods": [{"steps": ["open(X)"]}]}"#,
-                "/methods/0/steps/0",
-            ),
-            (
-                r#"{"parameters": ["X"], "methods": [{"steps": ["itself", "itself"]}]}"#,
-                "/methods/0/steps/1",
-            ),
-            (
-                r#"{"parameters": ["X"], "methods": [{"preconditions": ["closed("]}]}"#,
-                "/methods/0/preconditions/0",
-            ),
-            (
-                r#"{"parameters": ["X"], "methods": [{"place": ["X"]}]}"#,
-                "/methods/0/place",
-            ),
-            (r#"{"name": "shut", "parameters": ["X"], "methods": [{}]}"#, "/name"),
-        ];
-        for (json, field) in cases {
-            let err = input(json).validate("open").unwrap_err();
-            assert_eq!(err.field, field, "{json}: {err}");
-        }
-        assert_eq!(
-            input(r#"{"methods": [{}]}"#).validate("Open").unwrap_err().field,
-            "/name"
-        );
-    }
-
-    #[test]
-    fn recursion_through_the_library_is_refused_and_leaves_it_unchanged() {
-        let mut library = Library::default_library();
-        let fetch = input(r#"{"parameters": ["X"], "methods": [{"steps": ["carry(X)"]}]}"#)
-            .validate("fetch")
-            .unwrap();
-        library.insert(fetch).unwrap();
-        let carry = input(r#"{"parameters": ["X"], "methods": [{"steps": ["fetch(X)"]}]}"#)
-            .validate("carry")
-            .unwrap();
-        let err = library.insert(carry).unwrap_err();
-        assert!(err.message.contains("carry → fetch → carry"), "{err}");
-        assert!(library.get("carry", 1).is_none());
     }
 }

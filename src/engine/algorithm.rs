@@ -107,5 +107,6 @@ pub(super) fn plan_kind(plan: &Plan) -> DecisionKind {
         Plan::Confirm { .. } => DecisionKind::Confirm,
         Plan::Explain(_) => DecisionKind::Explain,
         Plan::Unresolved(_) => DecisionKind::Unresolved,
+        Plan::NotUnderstood { .. } => DecisionKind::NotUnderstood,
     }
 }

@@ -14,16 +14,18 @@ use std::sync::Arc;
 
 use super::action::Library;
 use super::algorithm::{decide, plan_kind};
+use super::decision::{Act, ReferenceParse, Understood};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
-use super::request::{Answer, Request};
+use super::request::{Answer, Directive, Request};
 use super::resolve::Reference;
 use super::resolve::{Narrowed, combinations, slots};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, did, simulate};
 use super::speech;
-use super::term::Term;
+use super::term::{Sym, Term};
+use super::words::{self, Parse, Understanding};
 use super::world::{Base, World};
 
 /// How many of the likeliest readings are named when there are too many to name them all.
@@ -73,6 +75,89 @@ pub fn clarify(
     library: &Library,
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Result<Decision, EngineError> {
+    let Directive::Words { text } = &request.directive else {
+        return decide_directive(request, &request.directive, scene, norms, library, expired);
+    };
+    // The words first: what they are read as is decided as the structured directive would be.
+    let speaker = Term::Const(request.speaker.clone());
+    match words::understand(text, scene, library, &request.focus) {
+        Understanding::Directive { directive, parse } => {
+            let mut decision = decide_directive(request, &directive, scene, norms, library, expired)?;
+            decision.parse = Some(understood(&parse, &speaker, scene));
+            Ok(decision)
+        }
+        Understanding::NotUnderstood { why, words } => {
+            let mut describer = Describer::new(scene, library);
+            let plan = Plan::NotUnderstood {
+                why,
+                words: words.clone(),
+            };
+            let mut decision = render(
+                &speaker,
+                request.options.style,
+                plan,
+                Vec::new(),
+                None,
+                norms.version,
+                &mut describer,
+            );
+            decision.library_version = library.version;
+            decision.parse = Some(Understood {
+                act: Act::Command,
+                addressee: None,
+                form: None,
+                references: Vec::new(),
+                ignored: Vec::new(),
+                unclear: Some(why),
+            });
+            Ok(decision)
+        }
+    }
+}
+
+/// What the answer shows of a parse: the logical form after pragmatics, one variable per
+/// reference (`want(human,did(self,put(X,Y)))`), and each reference's candidates.
+fn understood(parse: &Parse, speaker: &Term, scene: &Scene) -> Understood {
+    const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
+    let arguments = (0..parse.references.len())
+        .map(|i| {
+            Term::Var(Sym::from(
+                VARIABLES
+                    .get(i)
+                    .map_or_else(|| format!("X{i}"), |v| (*v).to_owned())
+                    .as_str(),
+            ))
+        })
+        .collect();
+    let action = Term::compound(&parse.verb, arguments);
+    let form = Term::compound("want", vec![speaker.clone(), did(&action)]);
+    Understood {
+        act: parse.act,
+        addressee: parse.addressee.clone(),
+        form: Some(form),
+        references: (parse.references.iter())
+            .map(|p| ReferenceParse {
+                words: p.words.clone(),
+                candidates: (scene.objects.iter())
+                    .filter(|o| p.reference.matches(o))
+                    .map(|o| o.id.clone())
+                    .collect(),
+            })
+            .collect(),
+        ignored: parse.ignored.clone(),
+        unclear: None,
+    }
+}
+
+/// Decides `directive` (the request's own, or the one its words were read as).
+fn decide_directive(
+    request: &Request,
+    directive: &Directive,
+    scene: &Scene,
+    norms: &CompiledNorms,
+    library: &Library,
+    expired: &(dyn Fn() -> bool + Sync),
+) -> Result<Decision, EngineError> {
     let speaker = Term::Const(request.speaker.clone());
     let options = request.options;
     let mut describer = Describer::new(scene, library);
@@ -90,7 +175,7 @@ pub fn clarify(
         decision
     };
 
-    let (template, slots) = slots(&request.directive, scene);
+    let (template, slots) = slots(directive, scene);
     let missing: Vec<String> = slots
         .iter()
         .filter(|s| s.candidates.is_empty())
@@ -281,5 +366,6 @@ fn render(
         limits,
         norm_version,
         library_version: 0,
+        parse: None,
     }
 }

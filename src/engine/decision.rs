@@ -54,6 +54,11 @@ pub enum Plan {
     Explain(Vec<usize>),
     /// References that match nothing, in words ("the spoon").
     Unresolved(Vec<String>),
+    /// Words that are not a directive, and those that could not be placed.
+    NotUnderstood {
+        why: Unclear,
+        words: String,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,6 +70,7 @@ pub enum DecisionKind {
     Confirm,
     Explain,
     Unresolved,
+    NotUnderstood,
 }
 
 impl DecisionKind {
@@ -77,6 +83,7 @@ impl DecisionKind {
             DecisionKind::Confirm => "confirm",
             DecisionKind::Explain => "explain",
             DecisionKind::Unresolved => "unresolved",
+            DecisionKind::NotUnderstood => "not_understood",
         }
     }
 }
@@ -158,4 +165,77 @@ pub struct Decision {
     pub norm_version: i64,
     /// The version of the action library it was simulated with.
     pub library_version: i64,
+    /// What the human's words were understood as, when the directive came in words.
+    pub parse: Option<Understood>,
+}
+
+/// How words were read: the act they perform, after the pragmatic rules.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Act {
+    /// An imperative: "Get the vase."
+    Command,
+    /// A question that conveys a request: "Can you get the vase?", "Would you mind getting it?"
+    IndirectRequest,
+    /// A statement of the speaker's wish: "I want you to get the vase."
+    Want,
+}
+
+impl Act {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Act::Command => "command",
+            Act::IndirectRequest => "indirect_request",
+            Act::Want => "want_statement",
+        }
+    }
+}
+
+/// Why words are not a directive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unclear {
+    /// Nothing but punctuation, politeness or a name.
+    Empty,
+    /// A question that asks for information, not an action: "What colour is the mug?"
+    Question,
+    /// What not to do: "Don't destroy the plate."
+    Negated,
+    /// More than one thing at once: "Get the mug and destroy the plate."
+    Several,
+    /// No verb, or words that are not a directive's shape.
+    Unplaced,
+}
+
+impl Unclear {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Unclear::Empty => "empty",
+            Unclear::Question => "question",
+            Unclear::Negated => "negated",
+            Unclear::Several => "several",
+            Unclear::Unplaced => "unplaced",
+        }
+    }
+}
+
+/// One reference as the human said it, and the objects it matches.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceParse {
+    pub words: String,
+    pub candidates: Vec<String>,
+}
+
+/// What the words were understood as, for the answer to show.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Understood {
+    pub act: Act,
+    /// Who was addressed, if a vocative named someone ("pepper").
+    pub addressee: Option<String>,
+    /// The logical form after pragmatics, in DIARC's syntax: `want(human,did(self,steal(X)))`,
+    /// one variable per reference, in order; absent when the words are not a directive.
+    pub form: Option<Term>,
+    pub references: Vec<ReferenceParse>,
+    /// Trailing words that select no object and were left out ("for reheating").
+    pub ignored: Vec<String>,
+    /// Why the words are not a directive, when they are not.
+    pub unclear: Option<Unclear>,
 }

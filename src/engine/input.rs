@@ -95,6 +95,8 @@ pub const DEFAULT_DEADLINE_MS: u64 = 2_000;
 pub const DEFAULT_MAX_OBJECTS: usize = 10_000;
 /// Default for `--max-deadline-ms`: the longest `options.deadline_ms` a request may ask for.
 pub const DEFAULT_MAX_DEADLINE_MS: u64 = 60_000;
+/// Default for `--max-text-bytes`: the longest human's words a directive or answer may carry.
+pub const DEFAULT_MAX_TEXT_BYTES: usize = 1_000;
 
 /// What the operator lets one clarify or check request ask of the service. Going over a limit is
 /// an `Invalid` naming the field and the limit; such a request never reaches a simulation.
@@ -108,6 +110,8 @@ pub struct RequestLimits {
     pub default_deadline_ms: u64,
     /// The longest deadline a request may ask for, milliseconds.
     pub max_deadline_ms: u64,
+    /// The longest human's words (`directive.text`), bytes.
+    pub max_text_bytes: usize,
 }
 
 impl Default for RequestLimits {
@@ -117,6 +121,7 @@ impl Default for RequestLimits {
             terms: TermLimits::DEFAULT,
             default_deadline_ms: DEFAULT_DEADLINE_MS,
             max_deadline_ms: DEFAULT_MAX_DEADLINE_MS,
+            max_text_bytes: DEFAULT_MAX_TEXT_BYTES,
         }
     }
 }

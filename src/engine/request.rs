@@ -78,6 +78,9 @@ pub enum Directive {
         action: Term,
         bindings: Vec<(Sym, Vec<Candidate>)>,
     },
+    /// The human's words, to be read against the scene and the verbs (`words`) before anything
+    /// is resolved; then decided as the directive they are read as.
+    Words { text: String },
 }
 
 /// The human's answer to a question the robot asked, sent with the original request.
@@ -100,6 +103,9 @@ pub struct Request {
     pub context: String,
     pub options: Options,
     pub answer: Option<Answer>,
+    /// Objects in the focus of attention from earlier turns, most salient first: what "it"
+    /// and "that one" refer to in words.
+    pub focus: Vec<String>,
 }
 
 impl Spelled for Strategy {
@@ -139,6 +145,9 @@ pub struct DirectiveInput {
     pub arguments: Option<Vec<ReferenceInput>>,
     pub form: Option<String>,
     pub bindings: Option<BTreeMap<String, Vec<BindingInput>>>,
+    /// The human's words: read as the directive when neither `action` nor `form` is given,
+    /// else only echoed.
+    pub text: Option<String>,
 }
 
 /// A follow-up answer as a request gives it: exactly one of the three.
@@ -171,6 +180,7 @@ pub struct RequestInput {
     pub options: Option<OptionsInput>,
     pub speaker_roles: Option<Vec<String>>,
     pub answer: Option<AnswerInput>,
+    pub focus: Option<Vec<String>>,
 }
 
 /// A request checked: what the engine decides on, and how long the decision may take.
@@ -214,6 +224,7 @@ impl Request {
             .map(|a| Answer::from_input(a, &scene).map_err(|e| e.within("/answer")))
             .transpose()?;
         let (options, deadline) = Options::from_input(input.options.unwrap_or_default(), limits)?;
+        let focus = focus_of(input.focus.unwrap_or_default(), &scene)?;
         Ok(Checked {
             request: Request {
                 speaker: form_speaker.unwrap_or_else(|| Sym::from(speaker)),
@@ -222,11 +233,34 @@ impl Request {
                 context,
                 options,
                 answer,
+                focus,
             },
             scene,
             deadline,
         })
     }
+}
+
+/// Most objects in focus.
+pub const MAX_FOCUS: usize = 16;
+
+/// The focus: objects of the scene, each once.
+fn focus_of(focus: Vec<String>, scene: &Scene) -> Result<Vec<String>, Invalid> {
+    if focus.len() > MAX_FOCUS {
+        return Err(Invalid::new("/focus", format!("at most {MAX_FOCUS} objects")));
+    }
+    for (i, id) in focus.iter().enumerate() {
+        if scene.object(id).is_none() {
+            return Err(Invalid::new(
+                format!("/focus/{i}"),
+                format!("no object `{id}` in the scene"),
+            ));
+        }
+        if focus[..i].contains(id) {
+            return Err(Invalid::new(format!("/focus/{i}"), format!("`{id}` is listed twice")));
+        }
+    }
+    Ok(focus)
 }
 
 impl Options {
@@ -328,12 +362,29 @@ impl Directive {
         scene: &Scene,
         limits: &RequestLimits,
     ) -> Result<(Directive, Option<Sym>), Invalid> {
+        if let Some(text) = &input.text
+            && text.len() > limits.max_text_bytes
+        {
+            return Err(Invalid::new(
+                "/text",
+                format!(
+                    "{} bytes is over the limit of {} (--max-text-bytes)",
+                    text.len(),
+                    limits.max_text_bytes
+                ),
+            ));
+        }
         match (input.action, input.form) {
             (Some(_), Some(_)) => Err(Invalid::new("", "give either `action` or `form`, not both")),
-            (None, None) => Err(Invalid::new(
-                "",
-                "needs `action` (with `arguments`) or `form` (with `bindings`)",
-            )),
+            (None, None) => match input.text {
+                Some(text) if input.arguments.is_none() && input.bindings.is_none() => {
+                    Ok((Directive::Words { text }, None))
+                }
+                _ => Err(Invalid::new(
+                    "",
+                    "needs `action` (with `arguments`), `form` (with `bindings`), or `text` alone",
+                )),
+            },
             (Some(verb), None) => {
                 verb_name(&verb).map_err(|m| Invalid::new("/action", m))?;
                 if input.bindings.is_some() {

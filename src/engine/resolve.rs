@@ -11,7 +11,17 @@ use super::request::{Answer, Directive};
 use super::scene::{Object, Scene, spoken};
 use super::term::{Subst, Sym, Term};
 
-/// A reference to objects of the scene: by id, or by type, attributes and properties.
+/// What an adjective in words may say of an object.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Sense {
+    /// The object has this property (`fragile`).
+    Property(String),
+    /// The object's attribute `key` has this value (`colour` = `red`).
+    Attribute { key: String, value: String },
+}
+
+/// A reference to objects of the scene: by id, or by type, attributes and properties, or as the
+/// human said it in words.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reference {
     Id(String),
@@ -20,6 +30,22 @@ pub enum Reference {
         kind: Option<String>,
         attributes: BTreeMap<String, String>,
         properties: Vec<String>,
+    },
+    /// In words: an object of one of `kinds` (any, when empty: "the red one") of which every
+    /// adjective says something true (one of its senses).
+    Spoken {
+        kinds: Vec<String>,
+        adjectives: Vec<Vec<Sense>>,
+        words: String,
+    },
+    /// "it", "that one": the object in focus; with none, it matches nothing.
+    Pronoun {
+        words: String,
+    },
+    /// Words with one that names nothing here ("the wet mug"): it matches no object, so the
+    /// robot says what it did not understand rather than pick another object.
+    Nothing {
+        words: String,
     },
 }
 
@@ -65,7 +91,7 @@ impl Reference {
         })
     }
 
-    pub(super) fn matches(&self, object: &Object) -> bool {
+    pub fn matches(&self, object: &Object) -> bool {
         match self {
             Reference::Id(id) => &object.id == id,
             Reference::Described {
@@ -77,6 +103,16 @@ impl Reference {
                     && attributes.iter().all(|(k, v)| object.attributes.get(k) == Some(v))
                     && properties.iter().all(|p| object.properties.contains(p))
             }
+            Reference::Spoken { kinds, adjectives, .. } => {
+                (kinds.is_empty() || kinds.contains(&object.kind))
+                    && adjectives.iter().all(|senses| {
+                        senses.iter().any(|sense| match sense {
+                            Sense::Property(p) => object.properties.contains(p),
+                            Sense::Attribute { key, value } => object.attributes.get(key) == Some(value),
+                        })
+                    })
+            }
+            Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
         }
     }
 
@@ -96,6 +132,9 @@ impl Reference {
                 words.push(self.noun().unwrap_or_else(|| "one".to_owned()));
                 words.join(" ")
             }
+            Reference::Spoken { words, .. } | Reference::Pronoun { words } | Reference::Nothing { words } => {
+                words.clone()
+            }
         }
     }
 
@@ -103,6 +142,7 @@ impl Reference {
     pub(super) fn noun(&self) -> Option<String> {
         match self {
             Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
+            Reference::Spoken { kinds, .. } => kinds.first().map(|k| spoken(k)),
             _ => None,
         }
     }
@@ -181,6 +221,15 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                 .collect();
             (Template::Verb(Sym::from(verb.as_str())), slots)
         }
+        // Words are read into an action before anything is resolved; unread, they name nothing.
+        Directive::Words { text } => (
+            Template::Verb(Sym::from("")),
+            vec![Slot {
+                candidates: Vec::new(),
+                words: text.clone(),
+                noun: "one".to_owned(),
+            }],
+        ),
         Directive::Form { action, bindings } => {
             let variables = action.variables();
             let slots = variables

@@ -4,7 +4,7 @@
 //! Owns: every sentence and every speech-act term. Must not: decide anything; it only words the
 //! plan `clarify` made, and it never names a reading the plan does not name.
 
-use super::decision::{Interpretation, Plan, Style};
+use super::decision::{Interpretation, Plan, Style, Unclear};
 use super::describe::Describer;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
@@ -75,6 +75,11 @@ pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
                     .map(|w| Term::compound("referent", vec![phrase_term(w)]))
                     .collect(),
             ),
+        ),
+        // What the human meant, and why the words did not say it: `want_know(self,meaning(question))`.
+        Plan::NotUnderstood { why, .. } => act(
+            "want_know",
+            Term::compound("meaning", vec![Term::constant(why.as_str())]),
         ),
     }
 }
@@ -391,6 +396,21 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
             format!("I believe that I {}.", clauses.join(" and that I "))
         }
         Plan::Unresolved(words) => format!("I do not know what you mean by {}.", words.join(" and ")),
+        Plan::NotUnderstood { why, words } => not_understood(*why, words),
+    }
+}
+
+/// What the robot says to words that are not a directive; the same in both styles, since
+/// nothing was refused. Names the words it could not place where there are some.
+fn not_understood(why: Unclear, words: &str) -> String {
+    match why {
+        Unclear::Empty => "I did not hear anything to do.".to_owned(),
+        Unclear::Question => format!("I can act on requests, but I did not understand \"{words}\" as one."),
+        Unclear::Negated => {
+            "I understood what you do not want me to do; tell me what you would like me to do.".to_owned()
+        }
+        Unclear::Several => "Please ask me for one thing at a time.".to_owned(),
+        Unclear::Unplaced => format!("I did not understand \"{words}\"."),
     }
 }
 
@@ -437,6 +457,7 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
                 .join(" ")
         }),
         Plan::Unresolved(words) => format!("I can't find {} here.", listed(words, "or")),
+        Plan::NotUnderstood { why, words } => not_understood(*why, words),
     }
 }
 

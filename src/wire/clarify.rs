@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::engine::decision::{Decision, Interpretation, Limits, Style};
+use crate::engine::decision::{Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
     AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, Strategy,
 };
@@ -34,6 +34,10 @@ pub struct ClarifyBody {
     /// The human's answer to the question this request's directive led to.
     #[serde(default)]
     pub answer: Option<AnswerBody>,
+    /// Object ids in the focus of attention from earlier turns, most salient first: what "it"
+    /// and "that one" mean in a directive in words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus: Option<Vec<String>>,
 }
 
 /// A follow-up: exactly one of `choice` (the position, from 0, among the readings the question
@@ -49,7 +53,8 @@ pub struct AnswerBody {
     pub reference: Option<ReferenceBody>,
 }
 
-/// Either `action` + `arguments` or `form` + `bindings`; `text` is the human's words, echoed.
+/// `action` + `arguments`, or `form` + `bindings`, or `text` alone: the human's words, read
+/// against the scene and the verbs. With `action` or `form`, `text` is only echoed.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DirectiveBody {
@@ -222,6 +227,7 @@ impl From<ClarifyBody> for RequestInput {
                 id: a.id,
                 reference: a.reference.map(Into::into),
             }),
+            focus: body.focus,
         }
     }
 }
@@ -246,6 +252,7 @@ impl From<DirectiveBody> for DirectiveInput {
             arguments: d.arguments.map(|a| a.into_iter().map(Into::into).collect()),
             form: d.form,
             bindings,
+            text: d.text,
         }
     }
 }
@@ -392,6 +399,54 @@ pub struct DecisionDto {
     /// The human's words, as sent in `directive.text`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub text: Option<String>,
+    /// What the words were understood as, when the directive was sent as `text` alone.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub parse: Option<ParseDto>,
+}
+
+/// One reference in the human's words, and the objects it matches.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct ReferenceParseDto {
+    pub words: String,
+    pub candidates: Vec<String>,
+}
+
+/// What a directive in words was understood as.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct ParseDto {
+    /// `command`, `indirect_request` ("Can you ...?") or `want_statement` ("I want you to ...").
+    pub act: String,
+    /// The name the words addressed ("pepper"), if any.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub addressee: Option<String>,
+    /// The logical form after pragmatics, in DIARC's syntax: `want(human,did(self,steal(X)))`.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub form: Option<String>,
+    pub references: Vec<ReferenceParseDto>,
+    /// Trailing words that select no object and were left out ("for reheating").
+    pub ignored: Vec<String>,
+    /// Why the words are not a directive (`question`, `negated`, `several`, `unplaced`,
+    /// `empty`), when the decision is `not_understood`.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub unclear: Option<String>,
+}
+
+impl From<&Understood> for ParseDto {
+    fn from(u: &Understood) -> Self {
+        ParseDto {
+            act: u.act.as_str().to_owned(),
+            addressee: u.addressee.clone(),
+            form: u.form.as_ref().map(Term::to_string),
+            references: (u.references.iter())
+                .map(|r| ReferenceParseDto {
+                    words: r.words.clone(),
+                    candidates: r.candidates.clone(),
+                })
+                .collect(),
+            ignored: u.ignored.clone(),
+            unclear: u.unclear.map(|w| w.as_str().to_owned()),
+        }
+    }
 }
 
 /// Which limit was hit, and how much of the directive was simulated.
@@ -427,6 +482,7 @@ impl DecisionDto {
             norm_version: decision.norm_version,
             library_version: decision.library_version,
             text,
+            parse: decision.parse.as_ref().map(ParseDto::from),
         }
     }
 }

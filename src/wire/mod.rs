@@ -19,7 +19,7 @@ use crate::error::Error;
 pub use check::{CheckBody, CheckDto, CheckOptionsBody, StepCheckDto};
 pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
-    ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody, ShapeBody,
+    ObjectBody, OptionsBody, ParseDto, ReasonDto, ReferenceBody, ReferenceParseDto, Scalar, SceneBody, ShapeBody,
 };
 pub use norms::{AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto};
 pub use verbs::{ActionSchema, MethodSchema};

@@ -27,6 +27,15 @@ pub struct ActionSchema {
     /// One or more ways of carrying the verb out; a reading is acceptable when any is.
     #[serde(default)]
     pub methods: Vec<MethodSchema>,
+    /// Phrases (1 to 3 words of letters, at most 16) that name the verb when a directive comes
+    /// in words: `["get", "grab", "pick up"]`. A phrase names one verb only; inflected forms
+    /// ("gets", "got", "picking up") are understood.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub words: Vec<String>,
+    /// For a verb of two parameters, the words (at most 8) understood between its arguments in
+    /// words: `["on", "onto", "into"]`. `joiner` stays the one word spoken.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joiners: Vec<String>,
 }
 
 /// One way of carrying a verb out. Terms are written over the verb's parameters.
@@ -91,6 +100,8 @@ mod tests {
             joiner: Some("on".into()),
             distinct: true,
             methods: vec![method.clone()],
+            words: vec!["open".into()],
+            joiners: vec!["with".into()],
         };
         let mut written = members(serde_json::to_value(&verb).unwrap());
         let mut declared = schema_members::<ActionSchema>();

@@ -42,9 +42,102 @@ async fn a_fresh_store_holds_the_contracts_default_library() {
     assert_eq!(
         put_verb,
         json!({"name": "put", "parameters": ["X", "Y"], "joiner": "on", "distinct": true, "methods": [{"steps": ["get(X)", "itself"],
-               "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}]})
+               "reach": ["X", "Y"], "place": ["X", "Y"], "adds": ["on(X,Y)"], "removes": ["holding(self,X)"]}],
+               "words": ["put", "place", "set", "position"], "joiners": ["on", "onto", "in", "into", "upon", "inside"]})
+    );
+    let get_verb: Value = app.get("/v1/actions/get").await.json().await.unwrap();
+    assert_eq!(
+        get_verb["words"],
+        json!(["get", "grab", "take", "pick up", "fetch", "bring", "hand"])
     );
     assert_problem(app.get("/v1/actions/juggle").await, StatusCode::NOT_FOUND, None).await;
+}
+
+#[tokio::test]
+async fn a_word_names_one_verb_only_and_a_clash_writes_nothing() {
+    let app = spawn_app().await;
+    let clutch = json!({"parameters": ["X"], "methods": [{"reach": ["X"]}], "words": ["seize", "Grab"]});
+    let problem = assert_problem(
+        put(&app, "clutch", &clutch).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/words/1"),
+    )
+    .await;
+    let detail = problem["detail"].as_str().unwrap();
+    assert!(detail.contains("`grab`") && detail.contains("`get`"), "{detail}");
+    assert_problem(app.get("/v1/actions/clutch").await, StatusCode::NOT_FOUND, None).await;
+    // Its own words, normalised, are kept; giving `get` new words frees the old ones.
+    let clutch = json!({"parameters": ["X"], "methods": [{"reach": ["X"]}], "words": ["Seize", "clutch  at"]});
+    assert_eq!(put(&app, "clutch", &clutch).await.status(), StatusCode::CREATED);
+    let stored: Value = app.get("/v1/actions/clutch").await.json().await.unwrap();
+    assert_eq!(stored["words"], json!(["seize", "clutch at"]));
+    let lone = json!({"parameters": ["X"], "methods": [{}], "joiners": ["on"]});
+    assert_problem(
+        put(&app, "wave", &lone).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/joiners"),
+    )
+    .await;
+}
+
+#[tokio::test]
+async fn verb_words_round_trip_over_grpc() {
+    let app = spawn_app().await;
+    let channel = tonic::transport::Channel::from_shared(app.base.clone())
+        .unwrap()
+        .connect()
+        .await
+        .unwrap();
+    let mut client = pb::actions_client::ActionsClient::new(channel);
+    let listed = client
+        .list_actions(pb::ListActionsRequest {})
+        .await
+        .unwrap()
+        .into_inner();
+    let put_verb = listed
+        .actions
+        .iter()
+        .find(|a| a.name.as_deref() == Some("put"))
+        .unwrap();
+    assert_eq!(put_verb.joiners, ["on", "onto", "in", "into", "upon", "inside"]);
+    assert_eq!(put_verb.words, ["put", "place", "set", "position"]);
+}
+
+#[tokio::test]
+async fn an_older_store_gains_the_default_words_and_a_curators_words_are_kept() {
+    let app = spawn_app().await;
+    let dir = app.dir.clone();
+    let get_words = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "grasp": ["X"], "adds": ["holding(self,X)"]}], "words": ["obtain"]});
+    assert_eq!(put(&app, "get", &get_words).await.status(), StatusCode::OK);
+    app.stop().await;
+    // As an older build left it: the seeded verbs without words, and the migration not applied.
+    let probe = spawn_on(dir.clone(), Options::default()).await;
+    let mut connection = {
+        use sqlx::ConnectOptions;
+        sqlx::sqlite::SqliteConnectOptions::new()
+            .filename(&probe.db_path)
+            .connect()
+            .await
+            .unwrap()
+    };
+    sqlx::raw_sql(
+        "UPDATE actions SET definition = json_remove(definition, '$.words', '$.joiners') WHERE name <> 'get';
+         DELETE FROM _sqlx_migrations WHERE version = 20261201000003;",
+    )
+    .execute(&mut connection)
+    .await
+    .unwrap();
+    drop(connection);
+    probe.stop().await;
+    let app = spawn_on(dir, Options::default()).await;
+    let put_verb: Value = app.get("/v1/actions/put").await.json().await.unwrap();
+    assert_eq!(put_verb["words"], json!(["put", "place", "set", "position"]));
+    assert_eq!(
+        put_verb["joiners"],
+        json!(["on", "onto", "in", "into", "upon", "inside"])
+    );
+    let get_verb: Value = app.get("/v1/actions/get").await.json().await.unwrap();
+    assert_eq!(get_verb["words"], json!(["obtain"]), "a verb that has words keeps them");
 }
 
 #[tokio::test]

@@ -107,9 +107,19 @@ async fn bad_clarify_requests_name_the_field_at_fault() {
             "/directive",
         ),
         (
-            "neither action nor form",
-            vase_with(|r| r["directive"] = json!({"text": "Hm."})),
+            "neither action nor form nor text",
+            vase_with(|r| r["directive"] = json!({"arguments": []})),
             "/directive",
+        ),
+        (
+            "words over the length limit",
+            vase_with(|r| r["directive"] = json!({"text": "get the vase ".repeat(80)})),
+            "/directive/text",
+        ),
+        (
+            "a focus on no object of the scene",
+            vase_with(|r| r["focus"] = json!(["object9"])),
+            "/focus/0",
         ),
         (
             "an unparsable form",

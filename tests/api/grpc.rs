@@ -159,6 +159,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                 properties: strings(&r["properties"]),
             }),
         }),
+        focus: strings(&body["focus"]),
     }
 }
 
@@ -195,6 +196,18 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
     }
     if let Some(text) = r.text {
         v["text"] = json!(text);
+    }
+    if let Some(p) = r.parse {
+        let references: Vec<Value> = (p.references.into_iter())
+            .map(|r| json!({"words": r.words, "candidates": r.candidates}))
+            .collect();
+        let mut parse = json!({"act": p.act, "references": references, "ignored": p.ignored});
+        for (key, value) in [("addressee", p.addressee), ("form", p.form), ("unclear", p.unclear)] {
+            if let Some(value) = value {
+                parse[key] = json!(value);
+            }
+        }
+        v["parse"] = parse;
     }
     v
 }
@@ -246,6 +259,20 @@ async fn every_paper_case_gives_the_same_answer_over_grpc_as_over_rest() {
         assert_eq!(grpc, rest, "{}", case["name"]);
         for (key, expected) in case["expect"].as_object().unwrap() {
             assert_eq!(&grpc[key], expected, "{}: {key}", case["name"]);
+        }
+        // The human's words alone: the same decision, over gRPC as over REST.
+        body["directive"] = json!({"text": case["text"]});
+        let rest = app.clarify(&body).await;
+        let grpc = as_rest_json(
+            clarifier
+                .clarify(clarify_request(&body))
+                .await
+                .expect("words over gRPC")
+                .into_inner(),
+        );
+        assert_eq!(grpc, rest, "{} in words", case["name"]);
+        for (key, expected) in case["expect"].as_object().unwrap() {
+            assert_eq!(&grpc[key], expected, "{} in words: {key}", case["name"]);
         }
     }
 }

@@ -46,6 +46,49 @@ async fn every_paper_case_gives_the_papers_decision_goal_and_words() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The same cases sent as the human's words alone (`{"text": "Pepper, can you go steal the cash
+/// box for me?"}`): the paper's decision, goal and words, and a parse that shows how.
+#[tokio::test]
+async fn every_paper_case_in_words_alone_gives_the_papers_answer() {
+    let app = spawn_app().await;
+    let demo = paper_demo();
+    for norm in demo["norms"].as_array().unwrap() {
+        app.add_norm(norm).await;
+    }
+    let mut failures = Vec::new();
+    for case in demo["cases"].as_array().unwrap() {
+        let mut request = json!({
+            "directive": {"text": case["text"]},
+            "scene": demo["scenes"][case["scene"].as_str().unwrap()].clone(),
+        });
+        if let Some(options) = case.get("options") {
+            request["options"] = options.clone();
+        }
+        let answer = app.clarify(&request).await;
+        for (key, expected) in case["expect"].as_object().unwrap() {
+            if &answer[key] != expected {
+                failures.push(format!("{}: {key} was {} not {}", case["name"], answer[key], expected));
+            }
+        }
+        let verb = case["directive"]["action"].as_str().unwrap_or("get");
+        assert_eq!(
+            answer["parse"]["form"],
+            format!("want(human,did(self,{verb}(X)))"),
+            "{}",
+            case["name"]
+        );
+        assert_eq!(answer["text"], case["text"]);
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let steal = json!({"directive": {"text": "Pepper, can you go steal the cash box for me?"}, "scene": demo["scenes"]["office"]});
+    let parse = &app.clarify(&steal).await["parse"];
+    assert_eq!(
+        parse,
+        &json!({"act": "indirect_request", "addressee": "pepper", "form": "want(human,did(self,steal(X)))",
+                "references": [{"words": "the cash box", "candidates": ["box1", "box2"]}], "ignored": []})
+    );
+}
+
 /// The OpenAPI document's example of `/v1/clarify` is the paper's "Get the vase.": the server
 /// must answer its example request with exactly its example response, every field.
 #[tokio::test]

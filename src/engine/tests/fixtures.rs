@@ -214,6 +214,7 @@ pub(super) fn request(directive: Directive) -> Request {
         context: "default".into(),
         options: Options::default(),
         answer: None,
+        focus: Vec::new(),
     }
 }
 

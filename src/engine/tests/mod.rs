@@ -16,7 +16,7 @@ use super::resolve::{Candidate, Reference};
 use super::scene::{Agent, Object, Scene, Shape};
 use super::term::{Sym, Term};
 
-use DecisionKind::{Ask, Assume, Comply, Confirm, Explain, Refuse, Unresolved};
+use DecisionKind::{Ask, Assume, Comply, Confirm, Explain, NotUnderstood, Refuse, Unresolved};
 
 mod decisions;
 mod feasibility;
@@ -27,6 +27,8 @@ mod paper;
 mod plans;
 mod runner;
 mod safety;
+mod verbs;
+mod words;
 
 use fixtures::*;
 use runner::*;

@@ -242,6 +242,12 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             prop_assert!(d.utterance.ends_with('.'));
         }
         Unresolved => prop_assert!(d.utterance.starts_with("I do not know what you mean by the ")),
+        NotUnderstood => {
+            return Err(TestCaseError::fail(format!(
+                "a structured directive is always understood: {}",
+                d.utterance
+            )));
+        }
     }
     Ok(())
 }

@@ -70,6 +70,7 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                 id: a.id,
                 reference: a.reference.map(ReferenceBody::from),
             }),
+            focus: (!request.focus.is_empty()).then_some(request.focus),
         })
     }
 }
@@ -195,6 +196,19 @@ impl From<DecisionDto> for pb::ClarifyResponse {
             text: d.text,
             offered: d.offered,
             limits: d.limits.map(limits),
+            parse: d.parse.map(|p| pb::Parse {
+                act: p.act,
+                addressee: p.addressee,
+                form: p.form,
+                references: (p.references.into_iter())
+                    .map(|r| pb::ParsedReference {
+                        words: r.words,
+                        candidates: r.candidates,
+                    })
+                    .collect(),
+                ignored: p.ignored,
+                unclear: p.unclear,
+            }),
         }
     }
 }
@@ -315,6 +329,8 @@ impl From<pb::Action> for ActionInput {
             parameters: a.parameters,
             joiner: a.joiner,
             distinct: a.distinct,
+            words: a.words,
+            joiners: a.joiners,
             methods: a
                 .methods
                 .into_iter()
@@ -339,6 +355,8 @@ impl From<ActionInput> for pb::Action {
             parameters: a.parameters,
             joiner: a.joiner,
             distinct: a.distinct,
+            words: a.words,
+            joiners: a.joiners,
             methods: a
                 .methods
                 .into_iter()

@@ -1,0 +1,86 @@
+//! Fuzzes the reading of a directive in words: arbitrary text against the paper's lab and the
+//! default verbs.
+//!
+//! Owns: the grammar's promises: it never panics, reads the same text the same way every
+//! time, and never lets a reference match an object that one of its words is not true of (a
+//! reference with a word the scene does not know matches nothing). Must not: simulate.
+#![no_main]
+
+use std::collections::BTreeMap;
+use std::sync::LazyLock;
+
+use libfuzzer_sys::fuzz_target;
+use scruple::engine::Library;
+use scruple::engine::input::RequestLimits;
+use scruple::engine::request::Directive;
+use scruple::engine::scene::{AgentInput, ObjectInput, Scene, SceneInput};
+use scruple::engine::words::{Understanding, understand};
+
+fn object(id: &str, kind: &str, properties: &[&str], attributes: &[(&str, &str)]) -> ObjectInput {
+    ObjectInput {
+        id: id.into(),
+        kind: kind.into(),
+        properties: properties.iter().map(|p| (*p).to_owned()).collect(),
+        attributes: attributes
+            .iter()
+            .map(|(k, v)| ((*k).to_owned(), (*v).to_owned()))
+            .collect::<BTreeMap<_, _>>(),
+        position: [0.5, 0.0, 0.8],
+        shape: None,
+        rotation: None,
+        mass: None,
+    }
+}
+
+static SCENE: LazyLock<Scene> = LazyLock::new(|| {
+    let input = SceneInput {
+        agent: AgentInput {
+            id: None,
+            position: [0.0, 0.0, 0.75],
+            reach: 0.9,
+            gripper_aperture: None,
+            payload: None,
+            gripper_size: None,
+        },
+        objects: vec![
+            object("object1", "notebook", &[], &[("color", "red")]),
+            object("object2", "notebook", &[], &[("color", "green")]),
+            object("object3", "vase", &["fragile"], &[]),
+            object("object4", "vase", &[], &[("material", "plastic")]),
+            object("object5", "mug", &[], &[]),
+            object("box1", "cash_box", &[], &[("color", "red")]),
+        ],
+        facts: vec![],
+    };
+    Scene::from_input(input, &RequestLimits::default()).expect("the fuzzer's scene is valid")
+});
+
+static LIBRARY: LazyLock<Library> = LazyLock::new(Library::default_library);
+
+/// The words of the scene: a reference may match an object only when each of its words (past
+/// the determiner) is one of these.
+const KNOWN: &[&str] = &[
+    "the", "a", "an", "this", "that", "my", "your", "one", "notebook", "vase", "mug", "cash", "box", "red", "green",
+    "fragile", "plastic",
+];
+
+fuzz_target!(|text: &str| {
+    let first = understand(text, &SCENE, &LIBRARY, &[]);
+    assert_eq!(first, understand(text, &SCENE, &LIBRARY, &[]), "{text:?} read two ways");
+    let Understanding::Directive { directive, parse } = first else {
+        return;
+    };
+    let Directive::Action { arguments, .. } = directive else {
+        panic!("{text:?} read as something other than an action");
+    };
+    assert!(arguments.len() <= 2, "{text:?}: {} references", arguments.len());
+    for phrase in &parse.references {
+        let matches = SCENE.objects.iter().filter(|o| phrase.reference.matches(o)).count();
+        let unknown = phrase.words.split(' ').any(|w| !KNOWN.contains(&w));
+        assert!(
+            !(unknown && matches > 0),
+            "{text:?}: `{}` has an unknown word and matches {matches}",
+            phrase.words
+        );
+    }
+});

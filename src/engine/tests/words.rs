@@ -1,0 +1,271 @@
+//! The words table: each construction of the grammar, with a case it takes and one it must not;
+//! every kind of words that are not a directive; and that a word the scene does not know
+//! inside a reference makes it match nothing (never another object).
+
+use super::fixtures::{lab, office, paper_norms, request, run};
+use crate::engine::action::Library;
+use crate::engine::decision::{DecisionKind, Unclear};
+use crate::engine::request::Directive;
+use crate::engine::resolve::Reference;
+use crate::engine::scene::Scene;
+use crate::engine::words::{Understanding, inflects, understand};
+
+/// A verb and each reference's candidates in the scene.
+type Read = (String, Vec<Vec<String>>);
+
+/// The directive the words are read as, in the structured form's terms: the verb and each
+/// reference's candidates in the scene.
+fn read(text: &str, scene: &Scene) -> Result<Read, (Unclear, String)> {
+    match understand(text, scene, &Library::default_library(), &[]) {
+        Understanding::Directive {
+            directive: Directive::Action { verb, arguments },
+            ..
+        } => {
+            let candidates = arguments
+                .iter()
+                .map(|r| {
+                    (scene.objects.iter())
+                        .filter(|o| r.matches(o))
+                        .map(|o| o.id.clone())
+                        .collect()
+                })
+                .collect();
+            Ok((verb, candidates))
+        }
+        Understanding::Directive { directive, .. } => panic!("{text}: read as {directive:?}"),
+        Understanding::NotUnderstood { why, words } => Err((why, words)),
+    }
+}
+
+fn ids(list: &[&str]) -> Vec<String> {
+    list.iter().map(|s| (*s).to_owned()).collect()
+}
+
+#[test]
+fn the_constructions_the_grammar_takes() {
+    let lab = lab();
+    let office = office();
+    let cases: &[(&str, &Scene, &str, &[&[&str]])] = &[
+        ("Get the vase.", &lab, "get", &[&["object3", "object4"]]),
+        ("get the vase", &lab, "get", &[&["object3", "object4"]]),
+        ("GET THE VASE!", &lab, "get", &[&["object3", "object4"]]),
+        (
+            "Pepper, can you go steal the cash box for me?",
+            &office,
+            "steal",
+            &[&["box1", "box2"]],
+        ),
+        ("Get the vase, robot.", &lab, "get", &[&["object3", "object4"]]),
+        (
+            "Could you please destroy the red notebook?",
+            &lab,
+            "destroy",
+            &[&["object1"]],
+        ),
+        ("Would you mind getting the mug?", &lab, "get", &[&["object5"]]),
+        ("I want you to get the plastic vase.", &lab, "get", &[&["object4"]]),
+        ("I'd like you to grab the fragile vase.", &lab, "get", &[&["object3"]]),
+        ("Go and fetch the mug.", &lab, "get", &[&["object5"]]),
+        ("Get the mug, please.", &lab, "get", &[&["object5"]]),
+        ("Please pick up the mug.", &lab, "get", &[&["object5"]]),
+        ("Pick the mug up.", &lab, "get", &[&["object5"]]),
+        ("Hand me the mug.", &lab, "get", &[&["object5"]]),
+        ("Get the green one.", &lab, "get", &[&["object2"]]),
+        ("Get a notebook.", &lab, "get", &[&["object1", "object2"]]),
+        ("Get the mug for reheating.", &lab, "get", &[&["object5"]]),
+        ("Get the mug now", &lab, "get", &[&["object5"]]),
+        (
+            "Put the mug on the red notebook.",
+            &lab,
+            "put",
+            &[&["object5"], &["object1"]],
+        ),
+        (
+            "Place the mug onto the green notebook",
+            &lab,
+            "put",
+            &[&["object5"], &["object2"]],
+        ),
+        ("Point to the mug.", &lab, "pointTo", &[&["object5"]]),
+        ("Juggle the mug.", &lab, "juggle", &[&["object5"]]),
+        ("Smash the plastic vase", &lab, "destroy", &[&["object4"]]),
+    ];
+    for (text, scene, verb, candidates) in cases {
+        let expected: Vec<Vec<String>> = candidates.iter().map(|c| ids(c)).collect();
+        assert_eq!(read(text, scene), Ok(((*verb).to_owned(), expected)), "{text}");
+    }
+}
+
+#[test]
+fn a_word_the_scene_does_not_know_inside_a_reference_matches_nothing() {
+    let lab = lab();
+    for text in [
+        "Get the wet mug.",
+        "Get the gizmo.",
+        "Get the blue notebook.",
+        "Get the mug on the notebook.",
+        "Get the second mug.",
+        "Get the mugs.",
+        "Get the one.",
+        "Get it.",
+    ] {
+        let (_, candidates) = read(text, &lab).unwrap_or_else(|e| panic!("{text}: {e:?}"));
+        assert_eq!(candidates, vec![Vec::<String>::new()], "{text} must match nothing");
+    }
+}
+
+#[test]
+fn words_that_are_not_a_directive_are_said_to_be_so() {
+    let lab = lab();
+    let cases = [
+        ("What color is the mug?", Unclear::Question),
+        ("Is the vase fragile?", Unclear::Question),
+        ("Can I get the mug?", Unclear::Question),
+        ("Don't destroy the notebook.", Unclear::Negated),
+        ("Do not destroy the notebook.", Unclear::Negated),
+        ("Get the mug and destroy the vase.", Unclear::Several),
+        ("mug vase notebook", Unclear::Unplaced),
+        ("Put the mug.", Unclear::Unplaced),
+        ("", Unclear::Empty),
+        ("Please.", Unclear::Empty),
+        ("Pepper, please.", Unclear::Empty),
+    ];
+    for (text, why) in cases {
+        assert_eq!(read(text, &lab).map_err(|e| e.0), Err(why), "{text}");
+    }
+}
+
+#[test]
+fn a_verbs_first_word_is_understood_inflected_and_nothing_else_is() {
+    for (token, word) in [
+        ("gets", "get"),
+        ("got", "get"),
+        ("getting", "get"),
+        ("grabbed", "grab"),
+        ("placing", "place"),
+        ("placed", "place"),
+        ("fetches", "fetch"),
+        ("stole", "steal"),
+        ("putting", "put"),
+    ] {
+        assert!(inflects(token, word), "{token} is {word}");
+    }
+    for (token, word) in [("gate", "get"), ("getaway", "get"), ("plac", "place"), ("set", "get")] {
+        assert!(!inflects(token, word), "{token} is not {word}");
+    }
+}
+
+#[test]
+fn a_pronoun_is_the_first_object_in_focus() {
+    let lab = lab();
+    let focus = ids(&["object4", "object3"]);
+    match understand("Get it.", &lab, &Library::default_library(), &focus) {
+        Understanding::Directive {
+            directive: Directive::Action { arguments, .. },
+            ..
+        } => assert_eq!(arguments, vec![Reference::Id("object4".into())]),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The paper's cases, sent as words, decide as their structured directives do.
+#[test]
+fn the_paper_in_words_decides_as_the_structured_directive() {
+    let norms = paper_norms();
+    let lab = lab();
+    for (text, scene, kind) in [
+        ("Get the mug.", &lab, DecisionKind::Comply),
+        ("Destroy the mug.", &lab, DecisionKind::Refuse),
+        ("Get the notebook.", &lab, DecisionKind::Ask),
+        ("Destroy the notebook.", &lab, DecisionKind::Explain),
+        ("Get the vase.", &lab, DecisionKind::Assume),
+    ] {
+        let words = run(&request(Directive::Words { text: text.into() }), scene, &norms);
+        assert_eq!(words.kind, kind, "{text}");
+        let Ok((verb, _)) = read(text, scene) else {
+            panic!("{text}")
+        };
+        let noun = text.trim_end_matches('.').rsplit(' ').next().unwrap();
+        let structured = run(
+            &request(Directive::Action {
+                verb,
+                arguments: vec![super::fixtures::ty(noun)],
+            }),
+            scene,
+            &norms,
+        );
+        assert_eq!(words.utterance, structured.utterance, "{text}");
+        assert_eq!(words.speech_act, structured.speech_act, "{text}");
+        assert_eq!(words.goal, structured.goal, "{text}");
+        assert_eq!(words.interpretations, structured.interpretations, "{text}");
+        let parse = words.parse.expect("a parse");
+        assert_eq!(
+            parse.form.unwrap().to_string(),
+            format!(
+                "want(human,did(self,{}(X)))",
+                if text.starts_with("Get") { "get" } else { "destroy" }
+            )
+        );
+    }
+}
+
+mod never_guess {
+    use proptest::prelude::*;
+
+    use super::super::fixtures::{lab, paper_norms, request, run};
+    use crate::engine::request::Directive;
+    use crate::engine::term::Term;
+
+    const VERBS: &[&str] = &[
+        "get",
+        "grab",
+        "take",
+        "destroy",
+        "Could you get",
+        "please fetch",
+        "smash",
+    ];
+    const DETERMINERS: &[&str] = &["the", "a", "", "that"];
+    /// The lab's adjectives, and words it does not know.
+    const ADJECTIVES: &[&str] = &["red", "green", "fragile", "plastic", "wet", "blue", "shiny", "second"];
+    const NOUNS: &[&str] = &["vase", "notebook", "mug", "gizmo", "cup", "one", "vases"];
+    const KNOWN_ADJECTIVES: &[&str] = &["red", "green", "fragile", "plastic"];
+    const KNOWN_NOUNS: &[&str] = &["vase", "notebook", "mug", "one"];
+
+    proptest! {
+        /// A goal names only an object that every content word of the reference is true of; a
+        /// reference with a word the scene does not know never yields a goal.
+        #[test]
+        fn a_goal_names_only_what_every_word_said(
+            verb in prop::sample::select(VERBS),
+            determiner in prop::sample::select(DETERMINERS),
+            adjectives in prop::collection::vec(prop::sample::select(ADJECTIVES), 0..3),
+            noun in prop::sample::select(NOUNS),
+            trailing in prop::sample::select(&["", ".", "!", ", please", " now", " for me"][..]),
+        ) {
+            let mut words = vec![verb.to_owned()];
+            words.extend([determiner].iter().filter(|d| !d.is_empty()).map(|d| (*d).to_owned()));
+            words.extend(adjectives.iter().map(|a| (*a).to_owned()));
+            words.push(noun.to_owned());
+            let text = format!("{}{trailing}", words.join(" "));
+            let scene = lab();
+            let decision = run(&request(Directive::Words { text: text.clone() }), &scene, &paper_norms());
+            let unknown = !KNOWN_NOUNS.contains(&noun) || adjectives.iter().any(|a| !KNOWN_ADJECTIVES.contains(a));
+            if unknown {
+                prop_assert!(decision.goal.is_none(), "{text}: {:?}", decision.goal);
+            }
+            if let Some(goal) = &decision.goal {
+                // `did(self,verb(object))`.
+                let Some(Term::Const(id)) = goal.args().get(1).and_then(|action| action.args().first()) else {
+                    return Err(TestCaseError::fail(format!("{text}: goal {goal}")));
+                };
+                let object = scene.object(id).unwrap();
+                prop_assert!(noun == "one" || object.kind == noun, "{text}: {} is a {}", id, object.kind);
+                for a in &adjectives {
+                    let true_of = object.properties.iter().any(|p| p == a) || object.attributes.values().any(|v| v == a);
+                    prop_assert!(true_of, "{text}: `{a}` is not true of {id}");
+                }
+            }
+        }
+    }
+}

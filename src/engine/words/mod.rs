@@ -1,0 +1,67 @@
+//! The human's words turned into the directive the structured API takes, as DIARC's parser and
+//! pragmatic rules do: "Pepper, can you go steal the cash box for me?" is a request to steal the
+//! cash box, spoken to Pepper.
+//!
+//! Owns: the grammar of directives (`grammar`), the words the scene and the verbs make known
+//! (`lexicon`), and what was understood (`Parse`). Must not: guess. A word that would narrow a
+//! reference and is not known makes that reference match nothing; what is not a directive at
+//! all is said to be so (`NotUnderstood`), never read as the nearest directive.
+
+mod grammar;
+mod lexicon;
+
+pub use lexicon::inflects;
+
+use super::action::Library;
+use super::decision::{Act, Unclear};
+use super::request::Directive;
+use super::resolve::Reference;
+use super::scene::Scene;
+
+/// One reference as the human said it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Phrase {
+    /// The words, as said ("the cash box").
+    pub words: String,
+    pub reference: Reference,
+}
+
+/// What the words were understood as.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parse {
+    pub act: Act,
+    /// Who was addressed, if a vocative named someone ("pepper").
+    pub addressee: Option<String>,
+    /// The verb the words name (or the unknown word in its place: "juggle").
+    pub verb: String,
+    pub references: Vec<Phrase>,
+    /// Trailing words that select no object and were left out ("for reheating", "now").
+    pub ignored: Vec<String>,
+}
+
+/// The outcome of reading the words.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Understanding {
+    /// A directive, decided exactly as the same directive sent structured.
+    Directive { directive: Directive, parse: Parse },
+    /// Not a directive; `words` are those that could not be placed (possibly all of them).
+    NotUnderstood { why: Unclear, words: String },
+}
+
+/// Reads `text` against the objects of `scene` and the verbs of `library`; a pronoun is the
+/// first object of `focus` (most salient first), and with no focus it matches nothing.
+pub fn understand(text: &str, scene: &Scene, library: &Library, focus: &[String]) -> Understanding {
+    let lexicon = lexicon::Lexicon::new(scene, library);
+    let mut understood = grammar::read(text, &lexicon);
+    if let Understanding::Directive { directive, parse } = &mut understood
+        && let (Some(first), Directive::Action { arguments, .. }) = (focus.first(), directive)
+    {
+        for (argument, phrase) in arguments.iter_mut().zip(&mut parse.references) {
+            if matches!(argument, Reference::Pronoun { .. }) {
+                *argument = Reference::Id(first.clone());
+                phrase.reference = argument.clone();
+            }
+        }
+    }
+    understood
+}
