@@ -29,6 +29,7 @@ fn object(id: &str, kind: &str, properties: &[&str], attributes: &[(&str, &str)]
         shape: None,
         rotation: None,
         mass: None,
+        names: Vec::new(),
     }
 }
 

@@ -14,11 +14,11 @@ use std::sync::Arc;
 
 use super::action::Library;
 use super::algorithm::{decide, plan_kind};
-use super::decision::{Act, ReferenceParse, Understood};
+use super::decision::{Act, ReferenceParse, Unclear, Understood};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
-use super::request::{Answer, Directive, Request};
+use super::request::{Answer, Directive, Request, SinglePermissible, Strategy};
 use super::resolve::Reference;
 use super::resolve::{Narrowed, combinations, slots};
 use super::scene::Scene;
@@ -147,6 +147,19 @@ fn understood(parse: &Parse, speaker: &Term, scene: &Scene) -> Understood {
         ignored: parse.ignored.clone(),
         unclear: None,
     }
+}
+
+/// Whether every argument with more than one candidate is indefinite ("a mug"), and one is.
+fn any_will_do(directive: &Directive, slots: &[super::resolve::Slot]) -> bool {
+    let Directive::Action { arguments, .. } = directive else {
+        return false;
+    };
+    let mut open = arguments
+        .iter()
+        .zip(slots)
+        .filter(|(_, slot)| slot.candidates.len() > 1)
+        .peekable();
+    open.peek().is_some() && open.all(|(argument, _)| matches!(argument, Reference::Spoken { indefinite: true, .. }))
 }
 
 /// Decides `directive` (the request's own, or the one its words were read as).
@@ -305,6 +318,40 @@ fn decide_directive(
     });
 
     let mut plan = decide(options, &readings, &slots, limits.is_some());
+    // "Get a mug.": when every reference with a choice is indefinite, any acceptable reading
+    // will do; the first in the contract's order is taken, and only what cannot be done is
+    // explained.
+    if options.strategy == Strategy::Moral
+        && matches!(plan, Plan::Ask { .. } | Plan::AskWhich { .. })
+        && any_will_do(directive, &slots)
+        && let [chosen, _, ..] = (0..readings.len())
+            .filter(|&i| readings[i].acceptable())
+            .collect::<Vec<_>>()[..]
+    {
+        let others = (0..readings.len()).filter(|&i| !readings[i].acceptable()).collect();
+        plan = match options.single_permissible {
+            SinglePermissible::Assume => Plan::Assume { chosen, others },
+            SinglePermissible::Confirm => Plan::Confirm { chosen, others },
+        };
+    }
+    // "yes" confirms the reading a question to confirm named, decided afresh; "no" to it, or
+    // either to anything else, leaves nothing to do.
+    match (&request.answer, &plan) {
+        (Some(Answer::Yes), Plan::Confirm { chosen, .. }) => {
+            readings = vec![readings.swap_remove(*chosen)];
+            plan = decide(options, &readings, &slots, false);
+            return Ok(finish(plan, readings, limits, &mut describer));
+        }
+        (Some(answer @ (Answer::Yes | Answer::No)), _) => {
+            let declined = matches!((answer, &plan), (Answer::No, Plan::Confirm { .. }));
+            let plan = Plan::NotUnderstood {
+                why: if declined { Unclear::Declined } else { Unclear::Unasked },
+                words: if matches!(answer, Answer::Yes) { "yes" } else { "no" }.to_owned(),
+            };
+            return Ok(finish(plan, Vec::new(), None, &mut describer));
+        }
+        _ => {}
+    }
     if let Some(Answer::Choice(choice)) = request.answer {
         let offered = match &plan {
             Plan::Ask { offered, .. } => offered.clone(),

@@ -203,6 +203,10 @@ pub enum Unclear {
     Several,
     /// No verb, or words that are not a directive's shape.
     Unplaced,
+    /// "no" to a question to confirm: nothing is done.
+    Declined,
+    /// "yes" or "no" when nothing was asked to confirm.
+    Unasked,
 }
 
 impl Unclear {
@@ -213,6 +217,8 @@ impl Unclear {
             Unclear::Negated => "negated",
             Unclear::Several => "several",
             Unclear::Unplaced => "unplaced",
+            Unclear::Declined => "declined",
+            Unclear::Unasked => "unasked",
         }
     }
 }

@@ -92,6 +92,10 @@ pub enum Answer {
     Id(String),
     /// "the red one": keeps the readings with an argument that matches.
     Reference(Reference),
+    /// "yes": after a question to confirm, the confirmed reading, decided afresh.
+    Yes,
+    /// "no": after a question to confirm, nothing is done.
+    No,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -156,6 +160,8 @@ pub struct AnswerInput {
     pub choice: Option<u64>,
     pub id: Option<String>,
     pub reference: Option<ReferenceInput>,
+    /// The answer in the human's words: "the red one", "the second one", "yes".
+    pub text: Option<String>,
 }
 
 /// The options as a request gives them; absent ones take their defaults.
@@ -221,7 +227,7 @@ impl Request {
             Directive::from_input(input.directive, &scene, limits).map_err(|e| e.within("/directive"))?;
         let speaker_roles = speaker_roles_of(input.speaker_roles)?;
         let answer = (input.answer)
-            .map(|a| Answer::from_input(a, &scene).map_err(|e| e.within("/answer")))
+            .map(|a| Answer::from_input(a, &scene, limits).map_err(|e| e.within("/answer")))
             .transpose()?;
         let (options, deadline) = Options::from_input(input.options.unwrap_or_default(), limits)?;
         let focus = focus_of(input.focus.unwrap_or_default(), &scene)?;
@@ -301,7 +307,26 @@ impl Options {
 
 impl Answer {
     /// Fields named relative to the answer.
-    fn from_input(input: AnswerInput, scene: &Scene) -> Result<Answer, Invalid> {
+    fn from_input(input: AnswerInput, scene: &Scene, limits: &RequestLimits) -> Result<Answer, Invalid> {
+        if let Some(text) = input.text {
+            if input.choice.is_some() || input.id.is_some() || input.reference.is_some() {
+                return Err(Invalid::new(
+                    "",
+                    "give exactly one of `choice`, `id`, `reference`, `text`",
+                ));
+            }
+            if text.len() > limits.max_text_bytes {
+                return Err(Invalid::new(
+                    "/text",
+                    format!(
+                        "{} bytes is over the limit of {} (--max-text-bytes)",
+                        text.len(),
+                        limits.max_text_bytes
+                    ),
+                ));
+            }
+            return Ok(super::words::understand_answer(&text, scene));
+        }
         match (input.choice, input.id, input.reference) {
             (Some(choice), None, None) => Ok(Answer::Choice(usize::try_from(choice).unwrap_or(usize::MAX))),
             (None, Some(id), None) => {
@@ -316,7 +341,10 @@ impl Answer {
                     described => Ok(Answer::Reference(described)),
                 }
             }
-            _ => Err(Invalid::new("", "give exactly one of `choice`, `id`, `reference`")),
+            _ => Err(Invalid::new(
+                "",
+                "give exactly one of `choice`, `id`, `reference`, `text`",
+            )),
         }
     }
 }

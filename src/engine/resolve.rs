@@ -31,12 +31,16 @@ pub enum Reference {
         attributes: BTreeMap<String, String>,
         properties: Vec<String>,
     },
-    /// In words: an object of one of `kinds` (any, when empty: "the red one") of which every
-    /// adjective says something true (one of its senses).
+    /// In words: an object of one of `kinds` or `named` (any, when both are empty: "the red
+    /// one") of which every adjective says something true (one of its senses).
     Spoken {
         kinds: Vec<String>,
+        /// Objects called by the noun spoken (one of their `names`), besides those of `kinds`.
+        named: Vec<String>,
         adjectives: Vec<Vec<Sense>>,
         words: String,
+        /// "a mug": any matching object will do.
+        indefinite: bool,
     },
     /// "it", "that one": the object in focus; with none, it matches nothing.
     Pronoun {
@@ -103,8 +107,13 @@ impl Reference {
                     && attributes.iter().all(|(k, v)| object.attributes.get(k) == Some(v))
                     && properties.iter().all(|p| object.properties.contains(p))
             }
-            Reference::Spoken { kinds, adjectives, .. } => {
-                (kinds.is_empty() || kinds.contains(&object.kind))
+            Reference::Spoken {
+                kinds,
+                named,
+                adjectives,
+                ..
+            } => {
+                (kinds.is_empty() && named.is_empty() || kinds.contains(&object.kind) || named.contains(&object.id))
                     && adjectives.iter().all(|senses| {
                         senses.iter().any(|sense| match sense {
                             Sense::Property(p) => object.properties.contains(p),
@@ -293,7 +302,7 @@ fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
     match answer {
         Answer::Id(id) => &object.id == id,
         Answer::Reference(reference) => reference.matches(object),
-        Answer::Choice(_) => true,
+        Answer::Choice(_) | Answer::Yes | Answer::No => true,
     }
 }
 

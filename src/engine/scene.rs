@@ -63,6 +63,8 @@ pub struct Object {
     pub rotation: Option<[f64; 4]>,
     /// Kilograms; `None`: payload is not checked for this object.
     pub mass: Option<f64>,
+    /// More nouns the object may be called by in words ("drink" for a soda can), lower case.
+    pub names: Vec<String>,
 }
 
 /// A validated scene: ids are unique, geometry is finite and positive.
@@ -107,6 +109,7 @@ pub struct ObjectInput {
     pub shape: Option<Shape>,
     pub rotation: Option<[f64; 4]>,
     pub mass: Option<f64>,
+    pub names: Vec<String>,
 }
 
 /// A scene as a request describes it: facts as text.
@@ -202,6 +205,7 @@ impl Object {
         {
             return Err(Invalid::new("/mass", "must be a non-negative number of kilograms"));
         }
+        let names = names_of(o.names)?;
         Ok(Object {
             id: o.id,
             kind: o.kind,
@@ -211,8 +215,38 @@ impl Object {
             shape,
             rotation,
             mass: o.mass,
+            names,
         })
     }
+}
+
+/// Most names one object may have.
+pub const MAX_NAMES: usize = 8;
+
+/// An object's names: 1 to 3 words of letters each, lower-cased, each once.
+fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
+    if given.len() > MAX_NAMES {
+        return Err(Invalid::new("/names", format!("at most {MAX_NAMES} names")));
+    }
+    let mut names: Vec<String> = Vec::with_capacity(given.len());
+    for (i, text) in given.iter().enumerate() {
+        let name = text
+            .split_whitespace()
+            .map(str::to_lowercase)
+            .collect::<Vec<_>>()
+            .join(" ");
+        let words = name.split(' ').count();
+        if name.is_empty() || name.len() > 64 || words > 3 || !name.chars().all(|c| c.is_alphabetic() || c == ' ') {
+            return Err(Invalid::new(
+                format!("/names/{i}"),
+                format!("`{text}` is not a name of 1 to 3 words of letters"),
+            ));
+        }
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    Ok(names)
 }
 
 impl Scene {
@@ -503,6 +537,7 @@ mod tests {
             shape,
             rotation,
             mass: None,
+            names: Vec::new(),
         }
     }
 

@@ -411,6 +411,8 @@ fn not_understood(why: Unclear, words: &str) -> String {
         }
         Unclear::Several => "Please ask me for one thing at a time.".to_owned(),
         Unclear::Unplaced => format!("I did not understand \"{words}\"."),
+        Unclear::Declined => "Okay, I will not. What would you like me to do instead?".to_owned(),
+        Unclear::Unasked => format!("I did not ask anything that \"{words}\" answers."),
     }
 }
 

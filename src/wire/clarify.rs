@@ -41,7 +41,7 @@ pub struct ClarifyBody {
 }
 
 /// A follow-up: exactly one of `choice` (the position, from 0, among the readings the question
-/// named: the `offered` of the answer to the original request), `id`, or `reference`.
+/// named: the `offered` of the answer to the original request), `id`, `reference`, or `text`.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AnswerBody {
@@ -51,6 +51,10 @@ pub struct AnswerBody {
     pub id: Option<String>,
     #[serde(default)]
     pub reference: Option<ReferenceBody>,
+    /// The answer in the human's words: "the red one", "the second one", an object's id,
+    /// "yes" or "no" (to a question to confirm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub text: Option<String>,
 }
 
 /// `action` + `arguments`, or `form` + `bindings`, or `text` alone: the human's words, read
@@ -162,6 +166,10 @@ pub struct ObjectBody {
     /// Kilograms; absent: payload is not checked for this object.
     #[serde(default)]
     pub mass: Option<f64>,
+    /// More nouns the object may be called by in words (`["drink", "soda"]`), 1 to 3 words
+    /// each, at most 8.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub names: Vec<String>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -226,6 +234,7 @@ impl From<ClarifyBody> for RequestInput {
                 choice: a.choice,
                 id: a.id,
                 reference: a.reference.map(Into::into),
+                text: a.text,
             }),
             focus: body.focus,
         }
@@ -304,6 +313,7 @@ impl From<ObjectBody> for ObjectInput {
             }),
             rotation: o.rotation,
             mass: o.mass,
+            names: o.names,
         }
     }
 }

@@ -78,6 +78,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             }),
             rotation: numbers(&o["rotation"]),
             mass: o["mass"].as_f64(),
+            names: strings(&o["names"]),
         })
         .collect();
     let bindings = directive["bindings"]
@@ -158,6 +159,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                 attributes: string_map(&r["attributes"]),
                 properties: strings(&r["properties"]),
             }),
+            text: opt(&a["text"]),
         }),
         focus: strings(&body["focus"]),
     }

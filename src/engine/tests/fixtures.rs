@@ -32,6 +32,7 @@ pub(super) fn obj(
         shape,
         rotation: None,
         mass: None,
+        names: Vec::new(),
     }
 }
 

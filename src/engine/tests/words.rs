@@ -269,3 +269,92 @@ mod never_guess {
         }
     }
 }
+
+fn said(text: &str) -> crate::engine::request::Request {
+    request(Directive::Words { text: text.into() })
+}
+
+fn answered(text: &str, answer: &str) -> crate::engine::request::Request {
+    crate::engine::request::Request {
+        answer: Some(crate::engine::words::understand_answer(answer, &lab())),
+        ..said(text)
+    }
+}
+
+#[test]
+fn an_objects_names_are_nouns_for_it_and_only_for_it() {
+    let scene = super::fixtures::lab_with(|objects| objects[4].names = vec!["coffee cup".into(), "drink".into()]);
+    assert_eq!(
+        read("Get the coffee cup.", &scene),
+        Ok(("get".into(), vec![ids(&["object5"])]))
+    );
+    assert_eq!(
+        read("Get the drink.", &scene),
+        Ok(("get".into(), vec![ids(&["object5"])]))
+    );
+    // A name another object does not have names nothing, rather than the nearest thing.
+    assert_eq!(read("Get the soda.", &scene), Ok(("get".into(), vec![Vec::new()])));
+}
+
+#[test]
+fn an_indefinite_reference_takes_the_first_acceptable_reading_and_explains_the_rest() {
+    let norms = paper_norms();
+    // Both notebooks may be got: "a notebook" is either, so the first is taken and said so.
+    let d = run(&said("Get a notebook."), &lab(), &norms);
+    assert_eq!(d.kind, DecisionKind::Assume);
+    assert_eq!(d.utterance, "I am assuming you want me to get the green notebook.");
+    // One vase is forbidden: as for "the vase", the other is assumed and the first explained.
+    let d = run(&said("Get a vase."), &lab(), &norms);
+    assert_eq!(d.kind, DecisionKind::Assume);
+    assert!(
+        d.utterance
+            .ends_with("I cannot get the fragile vase because it requires a forbidden state."),
+        "{}",
+        d.utterance
+    );
+    // "the" still asks: the human named one notebook, and the robot does not pick it.
+    assert_eq!(run(&said("Get the notebook."), &lab(), &norms).kind, DecisionKind::Ask);
+    // Nothing may be destroyed: an indefinite does not make a forbidden reading acceptable.
+    assert_eq!(
+        run(&said("Destroy a notebook."), &lab(), &norms).kind,
+        DecisionKind::Explain
+    );
+}
+
+#[test]
+fn follow_up_answers_in_words() {
+    let norms = paper_norms();
+    let pick = |answer: &str| run(&answered("Get the notebook.", answer), &lab(), &norms);
+    for (answer, goal) in [
+        ("the red one", "did(self,get(object1))"),
+        ("The green notebook.", "did(self,get(object2))"),
+        // The question names the green notebook first, then the red one.
+        ("the second one", "did(self,get(object1))"),
+        ("first", "did(self,get(object2))"),
+        ("object2", "did(self,get(object2))"),
+        ("I mean the red one, please", "did(self,get(object1))"),
+    ] {
+        let d = pick(answer);
+        assert_eq!(
+            d.goal.map(|g| g.to_string()).as_deref(),
+            Some(goal),
+            "{answer}: {}",
+            d.utterance
+        );
+    }
+    // An answer with a word the scene does not know keeps nothing.
+    assert_eq!(pick("the blue one").kind, DecisionKind::Unresolved);
+    // "yes" and "no" answer a question to confirm; after anything else they answer nothing.
+    assert_eq!(pick("yes").kind, DecisionKind::NotUnderstood);
+    let confirm = |answer: &str| {
+        let request = super::fixtures::confirming(answered("Get the vase.", answer));
+        run(&request, &lab(), &norms)
+    };
+    let yes = confirm("yes");
+    assert_eq!(yes.kind, DecisionKind::Comply);
+    assert_eq!(yes.goal.unwrap().to_string(), "did(self,get(object4))");
+    let no = confirm("No.");
+    assert_eq!(no.kind, DecisionKind::NotUnderstood);
+    assert_eq!(no.utterance, "Okay, I will not. What would you like me to do instead?");
+    assert!(no.goal.is_none() && no.interpretations.is_empty() && no.offered.is_empty());
+}

@@ -12,12 +12,13 @@
 //! Owns: the sentence's shape. Must not: place a word it does not know inside a reference as
 //! anything but unknown.
 
-use super::lexicon::{Lexicon, VerbPhrase, inflects};
+use super::lexicon::{Lexicon, Noun, VerbPhrase, inflects};
 use super::{Parse, Phrase, Understanding};
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
-use crate::engine::request::Directive;
+use crate::engine::request::{Answer, Directive};
 use crate::engine::resolve::Reference;
+use crate::engine::scene::Scene;
 
 const DETERMINERS: &[&str] = &["the", "a", "an", "this", "that", "my", "your"];
 const PRONOUNS: &[&str] = &["it", "this", "that"];
@@ -297,13 +298,13 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
         return nothing(words);
     }
     // The head noun: the longest known noun ending the reference, or "one".
-    let (kinds, head) = if body[body.len() - 1] == "one" {
-        (Vec::new(), 1)
+    let (noun, head) = if body[body.len() - 1] == "one" {
+        (Noun::default(), 1)
     } else {
         let longest = lexicon.longest().min(body.len());
         match (1..=longest)
             .rev()
-            .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k.to_vec(), n)))
+            .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k.clone(), n)))
         {
             Some(found) => found,
             None => return nothing(words),
@@ -325,16 +326,93 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
             None => return nothing(words),
         }
     }
-    if kinds.is_empty() && adjectives.is_empty() {
+    if noun == Noun::default() && adjectives.is_empty() {
         // "the one": nothing narrows it, and the words name no object.
         return nothing(words);
     }
     Phrase {
         reference: Reference::Spoken {
-            kinds,
+            kinds: noun.kinds,
+            named: noun.named,
             adjectives,
             words: words.clone(),
+            indefinite: ["a", "an"].contains(&span[0].as_str()),
         },
         words,
+    }
+}
+
+const YES: &[&[&str]] = &[
+    &["yes"],
+    &["yeah"],
+    &["yep"],
+    &["sure"],
+    &["ok"],
+    &["okay"],
+    &["do", "it"],
+    &["go", "ahead"],
+];
+const NO: &[&[&str]] = &[
+    &["no"],
+    &["nope"],
+    &["don't"],
+    &["dont"],
+    &["no", "thanks"],
+    &["no", "thank", "you"],
+];
+const ORDINALS: &[(&str, &str)] = &[
+    ("first", "1st"),
+    ("second", "2nd"),
+    ("third", "3rd"),
+    ("fourth", "4th"),
+    ("fifth", "5th"),
+    ("sixth", "6th"),
+    ("seventh", "7th"),
+    ("eighth", "8th"),
+    ("ninth", "9th"),
+    ("tenth", "10th"),
+];
+
+/// A follow-up answer's words; see `words::understand_answer`.
+pub fn read_answer(text: &str, scene: &Scene, lexicon: &Lexicon) -> Answer {
+    let mut words: Vec<String> = tokens(text).into_iter().map(|t| t.word).collect();
+    words.retain(|w| w != "please");
+    for frame in [&["i", "mean"][..], &["i", "meant"]] {
+        if is(&words, 0, frame) {
+            words.drain(..frame.len());
+        }
+    }
+    if YES.iter().any(|y| words == *y) {
+        return Answer::Yes;
+    }
+    if NO.iter().any(|n| words == *n) {
+        return Answer::No;
+    }
+    // "the second one", "second", "the 2nd".
+    let body: Vec<&str> = words
+        .iter()
+        .map(String::as_str)
+        .skip_while(|w| *w == "the")
+        .filter(|w| *w != "one")
+        .collect();
+    if let [ordinal] = body.as_slice()
+        && let Some(n) = ORDINALS
+            .iter()
+            .position(|(word, short)| word == ordinal || short == ordinal)
+    {
+        return Answer::Choice(n);
+    }
+    if let [id] = words.as_slice()
+        && scene.object(id).is_some()
+    {
+        return Answer::Id(id.clone());
+    }
+    if words.is_empty() {
+        return Answer::Reference(Reference::Nothing { words: String::new() });
+    }
+    match reference(&words, lexicon).reference {
+        // An object spoken of by itself ("it") names nothing in an answer.
+        Reference::Pronoun { words } => Answer::Reference(Reference::Nothing { words }),
+        other => Answer::Reference(other),
     }
 }

@@ -21,11 +21,19 @@ pub struct VerbPhrase {
     pub joiners: Vec<String>,
 }
 
+/// What a noun names: the types spoken so (`cash box` → `cash_box`), and the objects that
+/// have it as one of their `names`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Noun {
+    pub kinds: Vec<String>,
+    pub named: Vec<String>,
+}
+
 /// The known words of one request: built from the scene and the library in the request.
 #[derive(Debug, Default)]
 pub struct Lexicon {
-    /// A spoken type, as words, and the types spoken so (`cash box` → `cash_box`).
-    nouns: HashMap<Vec<String>, Vec<String>>,
+    /// A spoken type or an object's name, as words, and what it names.
+    nouns: HashMap<Vec<String>, Noun>,
     /// A spoken property or attribute value, as words, and what it may mean.
     adjectives: HashMap<Vec<String>, Vec<Sense>>,
     /// Longest phrase of either, in words.
@@ -41,7 +49,10 @@ impl Lexicon {
     pub fn new(scene: &Scene, library: &Library) -> Lexicon {
         let mut lexicon = Lexicon::default();
         for object in &scene.objects {
-            lexicon.add_noun(words_of(&spoken(&object.kind)), &object.kind);
+            lexicon.add_noun(words_of(&spoken(&object.kind)), Some(&object.kind), None);
+            for name in &object.names {
+                lexicon.add_noun(words_of(name), None, Some(&object.id));
+            }
             for property in &object.properties {
                 lexicon.add_adjective(words_of(&spoken(property)), Sense::Property(property.clone()));
             }
@@ -70,12 +81,16 @@ impl Lexicon {
         lexicon
     }
 
-    fn add_noun(&mut self, words: Vec<String>, kind: &str) {
+    fn add_noun(&mut self, words: Vec<String>, kind: Option<&str>, named: Option<&str>) {
         self.longest = self.longest.max(words.len());
-        let kinds = self.nouns.entry(words).or_default();
-        if !kinds.iter().any(|k| k == kind) {
-            kinds.push(kind.to_owned());
-            kinds.sort();
+        let noun = self.nouns.entry(words).or_default();
+        for (list, item) in [(&mut noun.kinds, kind), (&mut noun.named, named)] {
+            if let Some(item) = item
+                && !list.iter().any(|k| k == item)
+            {
+                list.push(item.to_owned());
+                list.sort();
+            }
         }
     }
 
@@ -88,9 +103,9 @@ impl Lexicon {
         }
     }
 
-    /// The types `words` speaks, if it is a noun here.
-    pub fn noun(&self, words: &[String]) -> Option<&[String]> {
-        self.nouns.get(words).map(Vec::as_slice)
+    /// What `words` names, if it is a noun here.
+    pub fn noun(&self, words: &[String]) -> Option<&Noun> {
+        self.nouns.get(words)
     }
 
     /// What `words` may mean as an adjective, if it is one here.

@@ -14,7 +14,7 @@ pub use lexicon::inflects;
 
 use super::action::Library;
 use super::decision::{Act, Unclear};
-use super::request::Directive;
+use super::request::{Answer, Directive};
 use super::resolve::Reference;
 use super::scene::Scene;
 
@@ -64,4 +64,11 @@ pub fn understand(text: &str, scene: &Scene, library: &Library, focus: &[String]
         }
     }
     understood
+}
+
+/// Reads a follow-up answer in words: "yes", "no", an ordinal into the question's readings
+/// ("the second one"), an object's id, or a reference ("the red one", whose "one" takes the
+/// question's type). Words that are none of these are a reference that matches nothing.
+pub fn understand_answer(text: &str, scene: &Scene) -> Answer {
+    grammar::read_answer(text, scene, &lexicon::Lexicon::new(scene, &Library::default()))
 }

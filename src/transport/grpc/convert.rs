@@ -69,6 +69,7 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                 choice: a.choice,
                 id: a.id,
                 reference: a.reference.map(ReferenceBody::from),
+                text: a.text,
             }),
             focus: (!request.focus.is_empty()).then_some(request.focus),
         })
@@ -180,6 +181,7 @@ fn object(at: &str, o: pb::Object) -> Result<ObjectBody, Error> {
         shape,
         rotation,
         mass: o.mass,
+        names: o.names,
     })
 }
 
