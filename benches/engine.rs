@@ -1,5 +1,6 @@
-//! Engine benchmarks: the paper's "Get the vase.", readings × objects × norms, and the cost of
-//! one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
+//! Engine benchmarks: the paper's "Get the vase." (structured and in words), reading the
+//! paper's sentence against the office, readings × objects × norms, and the cost of one world
+//! copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
 //!
 //! The scene is built once per benchmark and reused, as the engine sees one per request: its
 //! per-request caches (reach, clearance) are warm after the first iteration.
@@ -86,6 +87,22 @@ fn bench_paper(c: &mut Criterion) {
         input(json!({"directive": {"action": "get", "arguments": [{"type": "vase"}]}, "scene": demo["scenes"]["lab"]}));
     c.bench_function("paper/get_the_vase", |b| {
         b.iter(|| clarify(black_box(&vase.request), &vase.scene, &norms, &library, &|| false).unwrap())
+    });
+    // The same decision from the human's words: the reading of the words is inside the loop.
+    let words = input(json!({"directive": {"text": "Get the vase."}, "scene": demo["scenes"]["lab"]}));
+    c.bench_function("paper/get_the_vase_in_words", |b| {
+        b.iter(|| clarify(black_box(&words.request), &words.scene, &norms, &library, &|| false).unwrap())
+    });
+    let office = input(json!({"directive": {"action": "steal", "arguments": []}, "scene": demo["scenes"]["office"]}));
+    c.bench_function("words/pepper_can_you_go_steal_the_cash_box", |b| {
+        b.iter(|| {
+            scruple::engine::words::understand(
+                black_box("Pepper, can you go steal the cash box for me?"),
+                &office.scene,
+                &library,
+                &[],
+            )
+        })
     });
 }
 

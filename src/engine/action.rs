@@ -407,6 +407,18 @@ pub struct Library {
     /// Each verb's expansion cost, worked out once on first use (a request asks it for its
     /// verb); emptied by every insert.
     costs: std::sync::OnceLock<HashMap<(Sym, usize), u64>>,
+    /// Every phrase naming a verb, longest first, worked out once on first use.
+    phrases: std::sync::OnceLock<Vec<VerbPhrase>>,
+}
+
+/// One phrase that names a verb, in words, with the verb it names.
+#[derive(Clone, Debug)]
+pub struct VerbPhrase {
+    pub words: Vec<String>,
+    pub verb: String,
+    pub arity: usize,
+    /// The words understood between the verb's two arguments.
+    pub joiners: Vec<String>,
 }
 
 fn term(text: &str) -> Term {
@@ -419,6 +431,7 @@ impl Library {
     pub fn insert(&mut self, def: ActionDef) -> Result<(), Invalid> {
         let key = (def.name.clone(), def.params.len());
         self.costs = std::sync::OnceLock::new();
+        self.phrases = std::sync::OnceLock::new();
         let previous = self.defs.insert(key.clone(), def);
         if let Some(cycle) = self.cycle_through(&key) {
             match previous {
@@ -471,6 +484,29 @@ impl Library {
     /// unknown verb costs one step (it is found unknown).
     pub fn expansion(&self, name: &str, arity: usize) -> u64 {
         self.costs().get(&(Sym::from(name), arity)).copied().unwrap_or(1)
+    }
+
+    /// Every phrase that names a verb, longest first (so that "pick up" is tried before a verb
+    /// whose word is "pick"), then in byte order.
+    pub fn phrases(&self) -> &[VerbPhrase] {
+        self.phrases.get_or_init(|| {
+            let mut phrases: Vec<VerbPhrase> = (self.defs.values())
+                .flat_map(|def| {
+                    def.words.iter().map(|phrase| VerbPhrase {
+                        words: phrase.split(' ').map(str::to_owned).collect(),
+                        verb: def.name.to_string(),
+                        arity: def.params.len(),
+                        joiners: def.joiners.clone(),
+                    })
+                })
+                .collect();
+            phrases.sort_by(|a, b| {
+                (b.words.len().cmp(&a.words.len()))
+                    .then_with(|| a.words.cmp(&b.words))
+                    .then_with(|| a.verb.cmp(&b.verb))
+            });
+            phrases
+        })
     }
 
     /// The costliest verb's steps per reading.

@@ -504,6 +504,14 @@ fn euclid(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 /// `cash_box` → "cash box", `pointTo` → "point to".
 pub fn spoken(name: &str) -> String {
     let mut out = String::with_capacity(name.len() + 4);
+    spoken_into(name, &mut out);
+    out
+}
+
+/// `spoken`, written into `out` (cleared first), so that a caller comparing many names needs
+/// one buffer.
+pub fn spoken_into(name: &str, out: &mut String) {
+    out.clear();
     let mut previous: Option<char> = None;
     for c in name.chars() {
         if c == '_' {
@@ -520,7 +528,7 @@ pub fn spoken(name: &str) -> String {
         }
         previous = Some(c);
     }
-    out.trim_end().to_owned()
+    out.truncate(out.trim_end().len());
 }
 
 #[cfg(test)]

@@ -12,8 +12,9 @@
 //! Owns: the sentence's shape. Must not: place a word it does not know inside a reference as
 //! anything but unknown.
 
-use super::lexicon::{Lexicon, Noun, VerbPhrase, inflects};
+use super::lexicon::{Lexicon, Noun, inflects};
 use super::{Parse, Phrase, Understanding};
+use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
 use crate::engine::request::{Answer, Directive};
@@ -244,7 +245,7 @@ fn lexicon_word(lexicon: &Lexicon, word: &str) -> bool {
 fn verb_at<'l>(words: &[String], at: usize, lexicon: &'l Lexicon) -> Option<(&'l VerbPhrase, usize)> {
     let first = words.get(at)?;
     let mut split = None;
-    for phrase in &lexicon.verbs {
+    for phrase in lexicon.verbs {
         if !inflects(first, &phrase.words[0]) {
             continue;
         }
@@ -304,7 +305,7 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
         let longest = lexicon.longest().min(body.len());
         match (1..=longest)
             .rev()
-            .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k.clone(), n)))
+            .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k, n)))
         {
             Some(found) => found,
             None => return nothing(words),
@@ -317,7 +318,7 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
         let longest = lexicon.longest().min(before - i);
         match (1..=longest)
             .rev()
-            .find_map(|n| lexicon.adjective(&body[i..i + n]).map(|s| (s.to_vec(), n)))
+            .find_map(|n| lexicon.adjective(&body[i..i + n]).map(|s| (s, n)))
         {
             Some((senses, n)) => {
                 adjectives.push(senses);

@@ -1,25 +1,15 @@
 //! The words a request's scene and the action library make known: nouns (each object's type
-//! spoken), adjectives (properties and attribute values spoken) and the phrases that name verbs,
-//! with the inflections a verb's first word may take.
+//! spoken, and its names), adjectives (properties and attribute values spoken) and the phrases
+//! that name verbs, with the inflections a verb's first word may take.
 //!
 //! Owns: what a word may mean here, nothing about sentence shape. Must not: know a word the
 //! scene and the verbs do not give it: an unknown word is reported, never mapped to a near one.
+//! Looks words up in the scene as asked, rather than indexing every object first: a sentence
+//! asks about a handful of phrases, a scene may hold thousands of objects.
 
-use std::collections::HashMap;
-
-use crate::engine::action::Library;
+use crate::engine::action::{Library, VerbPhrase};
 use crate::engine::resolve::Sense;
-use crate::engine::scene::{Scene, spoken};
-
-/// One phrase that names a verb: its words, the verb, and the verb's arity.
-#[derive(Clone, Debug)]
-pub struct VerbPhrase {
-    pub words: Vec<String>,
-    pub verb: String,
-    pub arity: usize,
-    /// The words understood between the verb's two arguments.
-    pub joiners: Vec<String>,
-}
+use crate::engine::scene::{Scene, spoken_into};
 
 /// What a noun names: the types spoken so (`cash box` → `cash_box`), and the objects that
 /// have it as one of their `names`.
@@ -29,129 +19,140 @@ pub struct Noun {
     pub named: Vec<String>,
 }
 
-/// The known words of one request: built from the scene and the library in the request.
-#[derive(Debug, Default)]
-pub struct Lexicon {
-    /// A spoken type or an object's name, as words, and what it names.
-    nouns: HashMap<Vec<String>, Noun>,
-    /// A spoken property or attribute value, as words, and what it may mean.
-    adjectives: HashMap<Vec<String>, Vec<Sense>>,
-    /// Longest phrase of either, in words.
+/// The known words of one request: the scene's and the library's.
+pub struct Lexicon<'a> {
+    scene: &'a Scene,
+    pub verbs: &'a [VerbPhrase],
+    /// Longest noun or adjective phrase, in words.
     longest: usize,
-    pub verbs: Vec<VerbPhrase>,
 }
 
-fn words_of(text: &str) -> Vec<String> {
-    text.split_whitespace().map(str::to_lowercase).collect()
+/// How many words `name` is spoken as: `cash_box` is two, `pointTo` two.
+fn spoken_words(name: &str) -> usize {
+    let mut buffer = String::new();
+    spoken_into(name, &mut buffer);
+    buffer.split(' ').count()
 }
 
-impl Lexicon {
-    pub fn new(scene: &Scene, library: &Library) -> Lexicon {
-        let mut lexicon = Lexicon::default();
-        for object in &scene.objects {
-            lexicon.add_noun(words_of(&spoken(&object.kind)), Some(&object.kind), None);
-            for name in &object.names {
-                lexicon.add_noun(words_of(name), None, Some(&object.id));
-            }
-            for property in &object.properties {
-                lexicon.add_adjective(words_of(&spoken(property)), Sense::Property(property.clone()));
-            }
-            for (key, value) in &object.attributes {
-                let sense = Sense::Attribute {
-                    key: key.clone(),
-                    value: value.clone(),
-                };
-                lexicon.add_adjective(words_of(&spoken(value)), sense);
-            }
-        }
-        for def in library.verbs() {
-            for phrase in &def.words {
-                lexicon.verbs.push(VerbPhrase {
-                    words: words_of(phrase),
-                    verb: def.name.to_string(),
-                    arity: def.params.len(),
-                    joiners: def.joiners.clone(),
-                });
-            }
-        }
-        // Longer phrases first, so that "pick up" is tried before a verb named "pick".
-        lexicon
-            .verbs
-            .sort_by(|a, b| b.words.len().cmp(&a.words.len()).then(a.words.cmp(&b.words)));
-        lexicon
-    }
-
-    fn add_noun(&mut self, words: Vec<String>, kind: Option<&str>, named: Option<&str>) {
-        self.longest = self.longest.max(words.len());
-        let noun = self.nouns.entry(words).or_default();
-        for (list, item) in [(&mut noun.kinds, kind), (&mut noun.named, named)] {
-            if let Some(item) = item
-                && !list.iter().any(|k| k == item)
+impl<'a> Lexicon<'a> {
+    pub fn new(scene: &'a Scene, library: &'a Library) -> Lexicon<'a> {
+        let mut longest = 1;
+        for o in &scene.objects {
+            // Most names are one word; only those with a separator are counted out.
+            let separated = |n: &str| n.contains('_') || n.contains(' ') || n.chars().any(char::is_uppercase);
+            for name in std::iter::once(&o.kind)
+                .chain(&o.properties)
+                .chain(o.attributes.values())
+                .chain(&o.names)
             {
-                list.push(item.to_owned());
-                list.sort();
+                if separated(name) {
+                    longest = longest.max(spoken_words(name));
+                }
             }
         }
-    }
-
-    fn add_adjective(&mut self, words: Vec<String>, sense: Sense) {
-        self.longest = self.longest.max(words.len());
-        let senses = self.adjectives.entry(words).or_default();
-        if !senses.contains(&sense) {
-            senses.push(sense);
-            senses.sort();
+        Lexicon {
+            scene,
+            verbs: library.phrases(),
+            longest,
         }
     }
 
     /// What `words` names, if it is a noun here.
-    pub fn noun(&self, words: &[String]) -> Option<&Noun> {
-        self.nouns.get(words)
+    pub fn noun(&self, words: &[String]) -> Option<Noun> {
+        let wanted = words.join(" ");
+        let mut buffer = String::new();
+        let mut noun = Noun::default();
+        for o in &self.scene.objects {
+            spoken_into(&o.kind, &mut buffer);
+            if buffer == wanted && !noun.kinds.contains(&o.kind) {
+                noun.kinds.push(o.kind.clone());
+            }
+            if o.names.contains(&wanted) && !noun.named.contains(&o.id) {
+                noun.named.push(o.id.clone());
+            }
+        }
+        noun.kinds.sort();
+        noun.named.sort();
+        (noun != Noun::default()).then_some(noun)
     }
 
     /// What `words` may mean as an adjective, if it is one here.
-    pub fn adjective(&self, words: &[String]) -> Option<&[Sense]> {
-        self.adjectives.get(words).map(Vec::as_slice)
+    pub fn adjective(&self, words: &[String]) -> Option<Vec<Sense>> {
+        let wanted = words.join(" ");
+        let mut buffer = String::new();
+        let mut senses: Vec<Sense> = Vec::new();
+        let mut add = |sense: Sense| {
+            if !senses.contains(&sense) {
+                senses.push(sense);
+            }
+        };
+        for o in &self.scene.objects {
+            for property in &o.properties {
+                spoken_into(property, &mut buffer);
+                if buffer == wanted {
+                    add(Sense::Property(property.clone()));
+                }
+            }
+            for (key, value) in &o.attributes {
+                spoken_into(value, &mut buffer);
+                if buffer == wanted {
+                    add(Sense::Attribute {
+                        key: key.clone(),
+                        value: value.clone(),
+                    });
+                }
+            }
+        }
+        senses.sort();
+        (!senses.is_empty()).then_some(senses)
     }
 
     /// The longest noun or adjective phrase, in words.
     pub fn longest(&self) -> usize {
-        self.longest.max(1)
+        self.longest
     }
 }
 
 /// Whether `token` is `word` or one of its inflected forms: "gets", "got", "getting",
 /// "grabbed", "places", "placing", "carries". Only regular endings and the irregular pasts of
-/// the common verbs; a form that is none of these is not the word.
+/// the common verbs; a form that is none of these is not the word. Allocates nothing: it is
+/// asked for every verb phrase a sentence might start with.
 pub fn inflects(token: &str, word: &str) -> bool {
     if token == word {
         return true;
     }
-    let Some(rest) = token.strip_prefix(word) else {
-        return irregular(token, word) || stem_changes(token, word);
-    };
-    match rest {
-        "s" | "es" | "ed" | "ing" => true,
+    // Every form below, the irregular ones included, starts with the word's first letter.
+    if token.as_bytes().first() != word.as_bytes().first() {
+        return false;
+    }
+    if let Some(rest) = token.strip_prefix(word) {
+        if matches!(rest, "s" | "es" | "ed" | "ing") {
+            return true;
+        }
         // grab → grabbed, grabbing; get → getting: the last consonant doubled.
-        _ => {
-            let last = word.chars().last();
-            let doubled = last.map(|c| {
-                let c = c.to_string();
-                [format!("{c}ed"), format!("{c}ing")].contains(&rest.to_owned())
-            });
-            doubled.unwrap_or(false) || stem_changes(token, word)
+        if let Some(last) = word.chars().last()
+            && let Some(after) = rest.strip_prefix(last)
+            && matches!(after, "ed" | "ing")
+        {
+            return true;
+        }
+        // place → placed.
+        if rest == "d" && word.ends_with('e') {
+            return true;
         }
     }
-}
-
-/// place → placed, placing; carry → carries, carried.
-fn stem_changes(token: &str, word: &str) -> bool {
-    if let Some(stem) = word.strip_suffix('e') {
-        return token == format!("{stem}ed") || token == format!("{stem}ing") || token == format!("{word}d");
+    // place → placing; carry → carries, carried.
+    if let Some(stem) = word.strip_suffix('e')
+        && token.strip_prefix(stem) == Some("ing")
+    {
+        return true;
     }
-    if let Some(stem) = word.strip_suffix('y') {
-        return token == format!("{stem}ies") || token == format!("{stem}ied");
+    if let Some(stem) = word.strip_suffix('y')
+        && matches!(token.strip_prefix(stem), Some("ies" | "ied"))
+    {
+        return true;
     }
-    false
+    irregular(token, word)
 }
 
 fn irregular(token: &str, word: &str) -> bool {
