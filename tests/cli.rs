@@ -104,6 +104,37 @@ fn clarify_get_the_vase_under_the_paper_norms_assumes_the_plastic_vase() {
 }
 
 #[test]
+fn clarify_and_replay_read_the_humans_words_as_the_server_does() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let norms = paper_norms(dir.path(), &demo);
+    let body = json!({"directive": {"text": "Pepper, can you go steal the cash box for me?"}, "scene": demo["scenes"]["office"]});
+    let request = write(dir.path(), "steal.json", &body.to_string());
+    let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let answer: Value = serde_json::from_str(&stdout(&output)).unwrap();
+    assert_eq!(answer["parse"]["form"], "want(human,did(self,steal(X)))");
+    assert_eq!(answer["parse"]["addressee"], "pepper");
+    let lines = [
+        json!({"id": "words", "request": body}),
+        json!({"id": "question", "request": {"directive": {"text": "What is in the cash box?"}, "scene": demo["scenes"]["office"]}}),
+    ]
+    .map(|l| l.to_string())
+    .join("\n");
+    let file = write(dir.path(), "words.jsonl", &lines);
+    let out = dir.path().join("answers.jsonl");
+    let output = scruple(&["replay", s(&file), "--norms", s(&norms), "--out", s(&out)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let answers: Vec<Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers[0]["decision"]["decision"], answer["decision"]);
+    assert_eq!(answers[1]["decision"]["decision"], "not_understood");
+}
+
+#[test]
 fn clarify_without_norms_asks_about_both_vases() {
     let demo = demo();
     let dir = TempDir::new().unwrap();

@@ -83,7 +83,12 @@ pub fn clarify(
     match words::understand(text, scene, library, &request.focus) {
         Understanding::Directive { directive, parse } => {
             let mut decision = decide_directive(request, &directive, scene, norms, library, expired)?;
-            decision.parse = Some(understood(&parse, &speaker, scene));
+            // An answer that was not understood says why, beside what the directive was read as.
+            let unclear = decision.parse.as_ref().and_then(|p| p.unclear);
+            decision.parse = Some(Understood {
+                unclear,
+                ..understood(&parse, &speaker, scene)
+            });
             Ok(decision)
         }
         Understanding::NotUnderstood { why, words } => {
@@ -102,16 +107,21 @@ pub fn clarify(
                 &mut describer,
             );
             decision.library_version = library.version;
-            decision.parse = Some(Understood {
-                act: Act::Command,
-                addressee: None,
-                form: None,
-                references: Vec::new(),
-                ignored: Vec::new(),
-                unclear: Some(why),
-            });
+            decision.parse = Some(not_a_directive(why));
             Ok(decision)
         }
+    }
+}
+
+/// What the answer shows when the words, or the answer to a question, are not a directive.
+fn not_a_directive(why: Unclear) -> Understood {
+    Understood {
+        act: Act::Command,
+        addressee: None,
+        form: None,
+        references: Vec::new(),
+        ignored: Vec::new(),
+        unclear: Some(why),
     }
 }
 
@@ -344,11 +354,14 @@ fn decide_directive(
         }
         (Some(answer @ (Answer::Yes | Answer::No)), _) => {
             let declined = matches!((answer, &plan), (Answer::No, Plan::Confirm { .. }));
+            let why = if declined { Unclear::Declined } else { Unclear::Unasked };
             let plan = Plan::NotUnderstood {
-                why: if declined { Unclear::Declined } else { Unclear::Unasked },
+                why,
                 words: if matches!(answer, Answer::Yes) { "yes" } else { "no" }.to_owned(),
             };
-            return Ok(finish(plan, Vec::new(), None, &mut describer));
+            let mut decision = finish(plan, Vec::new(), None, &mut describer);
+            decision.parse = Some(not_a_directive(why));
+            return Ok(decision);
         }
         _ => {}
     }

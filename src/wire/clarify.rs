@@ -409,7 +409,8 @@ pub struct DecisionDto {
     /// The human's words, as sent in `directive.text`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub text: Option<String>,
-    /// What the words were understood as, when the directive was sent as `text` alone.
+    /// What the words were understood as: present when the directive was sent as `text` alone,
+    /// or when an answer in words (`yes`, `no`) answered nothing it could.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub parse: Option<ParseDto>,
 }

@@ -24,3 +24,4 @@ mod replicas;
 #[path = "../support/mod.rs"]
 mod support;
 mod tls;
+mod words;
