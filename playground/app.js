@@ -604,6 +604,7 @@ function showMode() {
   const m = mode();
   $("mode-action").hidden = m !== "action";
   $("mode-form").hidden = m !== "form";
+  $("mode-words").hidden = m !== "words";
 }
 
 function list(text) {
@@ -673,14 +674,16 @@ function buildRequest() {
     throw new Problem({ title: "No scene", detail: $("scene-json-status").textContent, field: "/scene" });
   }
   const directive = {};
+  const text = $("text").value.trim();
   if (mode() === "action") {
     directive.action = $("verb").value.trim();
     directive.arguments = [reference("ref1", 0), reference("ref2", 1)].filter(Boolean);
-  } else {
+  } else if (mode() === "form") {
     directive.form = $("form").value.trim();
     directive.bindings = bindings($("bindings").value);
+  } else if (!text) {
+    throw new Problem({ title: "Check the form", detail: "write the human's words to send them alone", field: "/directive/text" });
   }
-  const text = $("text").value.trim();
   if (text) directive.text = text;
   const body = {
     speaker: $("speaker").value.trim() || "human",
@@ -735,7 +738,21 @@ const DECISION_WORDS = {
   confirm: "Exactly one reading can be done: the robot asks before acting.",
   explain: "No reading can be done: the robot explains why, for each.",
   unresolved: "A reference matches nothing in the scene.",
+  not_understood: "The words are not a directive: nothing was simulated.",
 };
+
+/** How the words were read, when they were sent alone: the act, the logical form, each
+ *  reference's words and candidates, the words left out. */
+function parseFacts(p) {
+  const facts = [["Read as", p.unclear ? `not a directive (${p.unclear})` : p.act.replace("_", " ")]];
+  if (p.addressee) facts.push(["Addressed to", p.addressee]);
+  if (p.form) facts.push(["Logical form", h("code", { id: "parse-form" }, p.form)]);
+  for (const r of p.references) {
+    facts.push([`“${r.words}”`, r.candidates.length ? r.candidates.join(", ") : "matches nothing"]);
+  }
+  if (p.ignored.length) facts.push(["Left out", p.ignored.join("; ")]);
+  return facts;
+}
 
 function readingStatus(r) {
   if (!r.permissible) return "forbidden";
@@ -759,6 +776,7 @@ function showDecision(d) {
     ["Goal", d.goal ? h("code", {}, d.goal) : "none"],
   ];
   if (d.limits) facts.push(["Limits", `${d.limits.reason}: ${d.limits.simulated} of ${d.limits.readings} simulated`]);
+  if (d.parse) facts.push(...parseFacts(d.parse));
   facts.push(["Versions", `norms ${d.norm_version}, actions ${d.library_version}`]);
   let verdict = null;
   if (expected !== null) {

@@ -137,6 +137,17 @@ try {
       (await page.locator("#scene-svg g.obj.ok.chosen").count()) === 1,
     "the drawing colours the forbidden vase and the chosen one",
   );
+  // The same case in the words only: the same decision, and the parse shown.
+  await page.getByLabel("the words only").check();
+  await page.getByLabel("Human's words").fill(vaseCase.text);
+  await page.getByLabel("Human's words").press("Enter");
+  await page.waitForSelector("#parse-form");
+  check(
+    (await page.textContent("#parse-form")) === "want(human,did(self,get(X)))",
+    "the words only: the parse shows want(human,did(self,get(X)))",
+    await page.textContent("#parse-form"),
+  );
+  check((await page.textContent("#utterance")).endsWith(expected), "the words only: the paper's words again");
   check(pageErrors.length === 0, "no console or page errors (CSP included)", pageErrors.join(" | "));
   check(
     failedResponses.length === 1 && failedResponses[0] === "POST /v1/norms 422",
