@@ -391,6 +391,8 @@ impl From<&Interpretation> for InterpretationDto {
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct DecisionDto {
+    /// `comply`, `refuse`, `ask`, `assume`, `confirm`, `explain`, `unresolved` or
+    /// `not_understood` (the words are not a directive: nothing was simulated).
     pub decision: String,
     pub utterance: String,
     pub speech_act: String,

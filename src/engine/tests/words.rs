@@ -358,3 +358,37 @@ fn follow_up_answers_in_words() {
     assert_eq!(no.utterance, "Okay, I will not. What would you like me to do instead?");
     assert!(no.goal.is_none() && no.interpretations.is_empty() && no.offered.is_empty());
 }
+
+/// Each construction's negative: words that look like it but are not it, and what they are
+/// read as instead. None of them picks an object the human did not name.
+#[test]
+fn what_each_construction_does_not_take() {
+    let lab = lab();
+    type Expected = Result<(&'static str, &'static [&'static [&'static str]]), Unclear>;
+    let cases: &[(&str, Expected)] = &[
+        // A vocative is one or two words: three are no name; the first word is then taken as
+        // an unknown verb, and its reference, words it cannot place, names nothing.
+        ("Pepper the robot, get the mug.", Ok(("pepper", &[&[]]))),
+        // "can I" asks for information, not for an action.
+        ("Can I get the mug?", Err(Unclear::Question)),
+        // "pick" alone is no verb's word: the unknown verb it names, not `get`.
+        ("Pick the mug.", Ok(("pick", &[&["object5"]]))),
+        // Two references with no joiner between them do not say which is which.
+        ("Put the mug the notebook.", Err(Unclear::Unplaced)),
+        // "in" joins put's arguments, but "under" does not: the words stay in the reference.
+        ("Put the mug under the red notebook.", Err(Unclear::Unplaced)),
+        // "go" with no verb after it is not the "go X" frame.
+        ("Go to the mug.", Err(Unclear::Unplaced)),
+        // A beneficiary needs a reference after it.
+        ("Get me.", Ok(("get", &[&[]]))),
+        // An adjunct word inside a reference cuts it short; what is left names nothing.
+        ("Get the quickly mug.", Ok(("get", &[&[]]))),
+        // "this" alone is a pronoun, and there is no focus.
+        ("Destroy this.", Ok(("destroy", &[&[]]))),
+    ];
+    for (text, expected) in cases {
+        let expected = (*expected)
+            .map(|(verb, candidates)| (verb.to_owned(), candidates.iter().map(|c| ids(c)).collect::<Vec<_>>()));
+        assert_eq!(read(text, &lab).map_err(|e| e.0), expected, "{text}");
+    }
+}
