@@ -127,6 +127,22 @@ impl Default for RequestLimits {
 }
 
 impl RequestLimits {
+    /// The human's words (`directive.text`, `answer.text`) within `--max-text-bytes`; the fault
+    /// is named `/text`, relative to what carries them.
+    pub fn text(&self, text: &str) -> Result<(), Invalid> {
+        if text.len() > self.max_text_bytes {
+            return Err(Invalid::new(
+                "/text",
+                format!(
+                    "{} bytes is over the limit of {} (--max-text-bytes)",
+                    text.len(),
+                    self.max_text_bytes
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// `options.deadline_ms` of a clarify or a check, within the operator's bound.
     pub fn deadline(&self, value: Option<u64>) -> Result<Duration, Invalid> {
         let ms = ranged(

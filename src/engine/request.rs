@@ -315,16 +315,7 @@ impl Answer {
                     "give exactly one of `choice`, `id`, `reference`, `text`",
                 ));
             }
-            if text.len() > limits.max_text_bytes {
-                return Err(Invalid::new(
-                    "/text",
-                    format!(
-                        "{} bytes is over the limit of {} (--max-text-bytes)",
-                        text.len(),
-                        limits.max_text_bytes
-                    ),
-                ));
-            }
+            limits.text(&text)?;
             return Ok(super::words::understand_answer(&text, scene));
         }
         match (input.choice, input.id, input.reference) {
@@ -390,17 +381,8 @@ impl Directive {
         scene: &Scene,
         limits: &RequestLimits,
     ) -> Result<(Directive, Option<Sym>), Invalid> {
-        if let Some(text) = &input.text
-            && text.len() > limits.max_text_bytes
-        {
-            return Err(Invalid::new(
-                "/text",
-                format!(
-                    "{} bytes is over the limit of {} (--max-text-bytes)",
-                    text.len(),
-                    limits.max_text_bytes
-                ),
-            ));
+        if let Some(text) = &input.text {
+            limits.text(text)?;
         }
         match (input.action, input.form) {
             (Some(_), Some(_)) => Err(Invalid::new("", "give either `action` or `form`, not both")),

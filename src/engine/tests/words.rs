@@ -392,3 +392,20 @@ fn what_each_construction_does_not_take() {
         assert_eq!(read(text, &lab).map_err(|e| e.0), expected, "{text}");
     }
 }
+
+#[test]
+fn a_verb_of_no_arguments_takes_no_reference() {
+    let mut library = Library::default_library();
+    let wave: crate::engine::action::ActionInput =
+        serde_json::from_str(r#"{"parameters": [], "methods": [{}], "words": ["wave"]}"#).unwrap();
+    library.insert(wave.validate("wave").unwrap()).unwrap();
+    for (text, taken) in [
+        ("Wave.", true),
+        ("Could you wave now, please?", true),
+        ("Wave the mug.", false),
+    ] {
+        let understood = understand(text, &lab(), &library, &[]);
+        let is_wave = matches!(&understood, Understanding::Directive { directive: Directive::Action { verb, arguments }, .. } if verb == "wave" && arguments.is_empty());
+        assert_eq!(is_wave, taken, "{text}: {understood:?}");
+    }
+}

@@ -201,14 +201,21 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
     // Trailing adjuncts: from the first adjunct word after a reference's words to the end.
     let opens_adjunct =
         |w: &String| ADJUNCTS.contains(&w.as_str()) && !joiners.contains(w) && !lexicon_word(lexicon, w);
-    if let Some(i) = (1..rest.len()).find(|&i| opens_adjunct(&rest[i])) {
+    // A reference needs a word of its own first; a verb of no arguments has none to need.
+    let from = usize::from(arity > 0);
+    if let Some(i) = (from..rest.len()).find(|&i| opens_adjunct(&rest[i])) {
         ignored.push(rest[i..].join(" "));
         rest.truncate(i);
     }
-    if rest.is_empty() {
+    let spans: Vec<&[String]> = if arity == 0 {
+        // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
+        if !rest.is_empty() {
+            return unclear(Unclear::Unplaced, words.join(" "));
+        }
+        Vec::new()
+    } else if rest.is_empty() {
         return unclear(Unclear::Unplaced, words.join(" "));
-    }
-    let spans: Vec<&[String]> = if arity == 2 {
+    } else if arity == 2 {
         match (1..rest.len()).find(|&i| joiners.contains(&rest[i])) {
             Some(i) if i + 1 < rest.len() => vec![&rest[..i], &rest[i + 1..]],
             // Two arguments and no joiner between them: the words do not say which is which.
