@@ -8,7 +8,7 @@ use std::collections::{HashMap, HashSet};
 
 use serde::{Deserialize, Serialize};
 
-use super::input::Invalid;
+use super::input::{Invalid, normalise_phrase};
 use super::term::{Subst, Sym, Term, is_constant_name};
 
 /// One step of a method's plan.
@@ -171,14 +171,6 @@ pub const MAX_WORDS: usize = 16;
 pub const MAX_PHRASE_WORDS: usize = 3;
 /// Most joiners of one verb.
 pub const MAX_JOINERS: usize = 8;
-
-/// A phrase as words are matched: lower case, one space between words.
-pub fn normalise_phrase(text: &str) -> String {
-    text.split_whitespace()
-        .map(str::to_lowercase)
-        .collect::<Vec<_>>()
-        .join(" ")
-}
 
 /// Phrases of 1 to `most_words` words of letters, each listed once, normalised; `field` names
 /// the list.

@@ -39,6 +39,14 @@ pub fn pointer_segment(key: &str) -> String {
     key.replace('~', "~0").replace('/', "~1")
 }
 
+/// A phrase as words are matched: lower case, one space between words.
+pub fn normalise_phrase(text: &str) -> String {
+    text.split_whitespace()
+        .map(str::to_lowercase)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// Longest name of an id, a type, a property, an attribute or a context, in bytes.
 pub const MAX_NAME_LEN: usize = 128;
 

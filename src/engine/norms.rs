@@ -49,6 +49,19 @@ pub fn normalise_name(text: &str) -> String {
     out
 }
 
+/// A context as norms and requests carry it: normalised (see [`normalise_name`]), 1 to
+/// [`MAX_CONTEXT_LEN`] bytes; the fault is named `/context`.
+pub fn context_name(text: &str) -> Result<String, Invalid> {
+    let context = normalise_name(text);
+    if context.is_empty() || context.len() > MAX_CONTEXT_LEN {
+        return Err(Invalid::new(
+            "/context",
+            format!("must be 1 to {MAX_CONTEXT_LEN} bytes long"),
+        ));
+    }
+    Ok(context)
+}
+
 /// A valid norm, not yet stored. `term` is the forbidden action (a bare name forbids every action
 /// of that name, any arity) or the forbidden state fact.
 #[derive(Clone, Debug, PartialEq)]
@@ -176,15 +189,7 @@ impl NormInput {
             .enumerate()
             .map(|(i, text)| parse_literal(&format!("/when/{i}"), text, "a condition"))
             .collect::<Result<Vec<_>, _>>()?;
-        let context = self.context.as_deref().map(normalise_name);
-        if let Some(context) = &context
-            && (context.is_empty() || context.len() > MAX_CONTEXT_LEN)
-        {
-            return Err(Invalid::new(
-                "/context",
-                format!("must be 1 to {MAX_CONTEXT_LEN} bytes long"),
-            ));
-        }
+        let context = self.context.as_deref().map(context_name).transpose()?;
         let severity = match self.severity {
             None => DEFAULT_SEVERITY,
             Some(s @ 1..=5) => s as u8,

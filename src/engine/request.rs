@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use super::action::verb_name;
 use super::decision::Style;
-use super::input::{Invalid, MAX_NAME_LEN, RequestLimits, Spelled, constant, pointer_segment, ranged};
-use super::norms::{normalise_name, validate_roles};
+use super::input::{Invalid, RequestLimits, Spelled, constant, pointer_segment, ranged};
+use super::norms::{context_name, validate_roles};
 use super::resolve::{Candidate, Reference, ReferenceInput};
 use super::scene::{Scene, SceneInput};
 use super::term::{Sym, Term};
@@ -200,14 +200,7 @@ pub struct Checked {
 /// The context norms are selected by: normalised as a norm's context is, so that the two meet;
 /// absent, `default`.
 pub fn context_of(context: Option<String>) -> Result<String, Invalid> {
-    let context = context.map_or_else(|| "default".to_owned(), |c| normalise_name(&c));
-    if context.is_empty() || context.len() > MAX_NAME_LEN {
-        return Err(Invalid::new(
-            "/context",
-            format!("must be 1 to {MAX_NAME_LEN} bytes long"),
-        ));
-    }
-    Ok(context)
+    context.map_or_else(|| Ok("default".to_owned()), |c| context_name(&c))
 }
 
 /// The speaker's roles, as a norm's are checked.

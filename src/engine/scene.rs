@@ -16,7 +16,7 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, SharedShape};
 
-use super::input::{Invalid, RequestLimits, constant, finite, pointer_segment, positive};
+use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
 use super::term::Term;
 
 /// The robot itself.
@@ -230,11 +230,7 @@ fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
     }
     let mut names: Vec<String> = Vec::with_capacity(given.len());
     for (i, text) in given.iter().enumerate() {
-        let name = text
-            .split_whitespace()
-            .map(str::to_lowercase)
-            .collect::<Vec<_>>()
-            .join(" ");
+        let name = normalise_phrase(text);
         let words = name.split(' ').count();
         if name.is_empty() || name.len() > 64 || words > 3 || !name.chars().all(|c| c.is_alphabetic() || c == ' ') {
             return Err(Invalid::new(
