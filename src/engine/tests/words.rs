@@ -383,6 +383,9 @@ fn what_each_construction_does_not_take() {
         ("Get me.", Ok(("get", &[&[]]))),
         // An adjunct word inside a reference cuts it short; what is left names nothing.
         ("Get the quickly mug.", Ok(("get", &[&[]]))),
+        // A preposition or a pronoun is never the unknown verb an imperative names.
+        ("On the mug.", Err(Unclear::Unplaced)),
+        ("It the mug.", Err(Unclear::Unplaced)),
         // "this" alone is a pronoun, and there is no focus.
         ("Destroy this.", Ok(("destroy", &[&[]]))),
     ];

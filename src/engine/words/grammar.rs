@@ -28,6 +28,12 @@ const QUESTION_WORDS: &[&str] = &[
     "what", "which", "who", "whom", "whose", "where", "when", "why", "how", "is", "are", "was", "were", "does", "did",
     "do", "has", "have", "am", "should", "shall", "may", "might", "must",
 ];
+/// Words that are never a verb, so never the unknown verb an imperative names: "on the mug"
+/// is not a request to "on" it.
+const FUNCTION_WORDS: &[&str] = &[
+    "the", "a", "an", "my", "your", "on", "onto", "in", "into", "inside", "upon", "at", "to", "with", "from", "of",
+    "by", "under", "over", "off", "up", "down", "for", "me", "us", "you", "i", "we", "and", "or", "not", "yes", "no",
+];
 /// Words that open a trailing adjunct, which selects no object and may be left out.
 const ADJUNCTS: &[&str] = &[
     "for",
@@ -187,7 +193,8 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
             let opens_reference = words
                 .get(1)
                 .is_some_and(|w| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str()));
-            if !(opens_reference && verb_name(&words[0]).is_ok()) {
+            let function_word = FUNCTION_WORDS.contains(&words[0].as_str()) || PRONOUNS.contains(&words[0].as_str());
+            if !(opens_reference && !function_word && verb_name(&words[0]).is_ok()) {
                 return unclear(Unclear::Unplaced, words.join(" "));
             }
             (words[0].clone(), 1, Vec::new(), words[1..].to_vec())
