@@ -48,6 +48,7 @@ fn answer() -> DecisionDto {
         },
         plan: vec![format!("get({action})")],
         score: 1.0,
+        norm_score: 0,
     };
     DecisionDto {
         decision: "assume".into(),

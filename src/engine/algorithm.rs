@@ -35,9 +35,20 @@ fn too_many(good: &[usize], all: &[Interpretation], slots: &[Slot], max_spoken: 
     }
 }
 
+/// The readings Algorithm 1 chooses among: the acceptable (permissible and feasible) ones with
+/// the highest norm score, in the contract's order. The other acceptable ones are dispreferred:
+/// never offered. With no soft norm in force every score is 0 and these are all acceptable ones.
+pub(super) fn kept(all: &[Interpretation]) -> Vec<usize> {
+    let good = (0..all.len()).filter(|&i| all[i].acceptable());
+    let Some(best) = good.clone().map(|i| all[i].norm_score()).max() else {
+        return Vec::new();
+    };
+    good.filter(|&i| all[i].norm_score() == best).collect()
+}
+
 /// Algorithm 1 (two or more readings), the single-reading cases, and the caps.
 pub(super) fn decide(options: Options, all: &[Interpretation], slots: &[Slot], incomplete: bool) -> Plan {
-    let good: Vec<usize> = (0..all.len()).filter(|&i| all[i].acceptable()).collect();
+    let good = kept(all);
     if incomplete {
         // Unsimulated readings remain: never assume, obey or explain on a partial view; name
         // only simulated acceptable readings, and say there may be something else.
@@ -71,11 +82,13 @@ pub(super) fn decide(options: Options, all: &[Interpretation], slots: &[Slot], i
             more: all.len() > options.max_spoken,
         };
     }
-    let others: Vec<usize> = (0..all.len()).filter(|&i| !all[i].acceptable()).collect();
+    let refused: Vec<usize> = (0..all.len()).filter(|&i| !all[i].acceptable()).collect();
     match good.as_slice() {
-        [] => Plan::Explain(others),
+        [] => Plan::Explain(refused),
         [chosen] => {
-            let share = others.len() as f64 / all.len() as f64;
+            // Every other reading is explained: those that cannot be done, and those dispreferred.
+            let others = (0..all.len()).filter(|i| i != chosen).collect();
+            let share = refused.len() as f64 / all.len() as f64;
             let confirm = options.single_permissible == SinglePermissible::Confirm
                 || options.confirm_above_ratio.is_some_and(|ratio| share > ratio);
             if confirm {

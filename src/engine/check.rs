@@ -11,7 +11,7 @@ use super::action::{Library, verb_name};
 use super::decision::{LimitKind, Limits, Style};
 use super::describe::Describer;
 use super::input::{Invalid, RequestLimits};
-use super::norms::{CompiledNorms, Scope};
+use super::norms::{CompiledNorms, Force, Scope};
 use super::request::{context_of, speaker_roles_of};
 use super::scene::{Scene, SceneInput};
 use super::simulate::{Env, Outcome, Reason, simulate_from};
@@ -158,10 +158,20 @@ pub fn check(
         readings: steps.len() as u128,
         simulated: done,
     });
+    // A refusal speaks the first reason that is not a soft norm's.
     let first_refused = checked
         .iter()
         .find(|s| !(s.outcome.permissible() && s.outcome.feasible()))
-        .map(|s| (s.reading.clone(), s.reason_words[0].clone()));
+        .and_then(|s| {
+            let hard = s.outcome.reasons.iter().position(|r| !r.is_soft())?;
+            Some((s.reading.clone(), s.reason_words[hard].clone()))
+        });
+    // Steps that may be done but should not: "Okay, although the mug is dirty."
+    let although: Vec<String> = (checked.iter())
+        .flat_map(|s| s.outcome.reasons.iter().zip(&s.reason_words))
+        .filter(|(r, _)| r.force() == Some(Force::Discouraged))
+        .map(|(_, words)| words.clone())
+        .collect();
     // Steps never begun (the deadline) are not "okay": the first of them is why not.
     let not_begun = || {
         let step = &steps[checked.len()];
@@ -169,9 +179,11 @@ pub fn check(
         (describer.reading(step), why)
     };
     let utterance = match first_refused.or_else(|| (checked.len() < steps.len()).then(not_begun)) {
-        None => match style {
-            Style::Diarc => "Okay.".to_owned(),
-            Style::Natural => "Okay, I can go on.".to_owned(),
+        None => match (style, although.is_empty()) {
+            (Style::Diarc, true) => "Okay.".to_owned(),
+            (Style::Diarc, false) => format!("Okay, although {}.", although.join(" and ")),
+            (Style::Natural, true) => "Okay, I can go on.".to_owned(),
+            (Style::Natural, false) => format!("Okay, I can go on, although {}.", although.join(" and ")),
         },
         Some((reading, why)) => match style {
             Style::Diarc => format!("I cannot {reading} because {why}."),

@@ -13,12 +13,12 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 use super::action::Library;
-use super::algorithm::{decide, plan_kind};
+use super::algorithm::{decide, kept, plan_kind};
 use super::decision::{Act, ReferenceParse, Unclear, Understood};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
-use super::request::{Answer, Directive, Request, SinglePermissible, Strategy};
+use super::request::{Answer, Directive, Request, SinglePermissible, SoftNorms, Strategy};
 use super::resolve::Reference;
 use super::resolve::{Narrowed, combinations, slots};
 use super::scene::Scene;
@@ -288,6 +288,8 @@ fn decide_directive(
         scope: Scope {
             context: &request.context,
             roles: &request.speaker_roles,
+            // The reflexive strategy ignores soft norms as it ignores all norms.
+            soft: options.strategy == Strategy::Moral && options.soft_norms == SoftNorms::Rank,
         },
         expired,
     };
@@ -334,11 +336,12 @@ fn decide_directive(
     if options.strategy == Strategy::Moral
         && matches!(plan, Plan::Ask { .. } | Plan::AskWhich { .. })
         && any_will_do(directive, &slots)
-        && let [chosen, _, ..] = (0..readings.len())
-            .filter(|&i| readings[i].acceptable())
-            .collect::<Vec<_>>()[..]
+        && let kept = kept(&readings)
+        && let [chosen, _, ..] = kept[..]
     {
-        let others = (0..readings.len()).filter(|&i| !readings[i].acceptable()).collect();
+        // What cannot be done is explained, and what is dispreferred; the other readings as
+        // good as the one taken go unsaid.
+        let others = (0..readings.len()).filter(|i| !kept.contains(i)).collect();
         plan = match options.single_permissible {
             SinglePermissible::Assume => Plan::Assume { chosen, others },
             SinglePermissible::Confirm => Plan::Confirm { chosen, others },

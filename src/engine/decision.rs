@@ -117,6 +117,11 @@ impl Interpretation {
     pub fn acceptable(&self) -> bool {
         self.permissible() && self.feasible()
     }
+
+    /// Preferred norms met minus discouraged norms broken, by severity (0 with none in force).
+    pub fn norm_score(&self) -> i32 {
+        self.outcome.norm_score()
+    }
 }
 
 /// Why not every reading was simulated.

@@ -95,6 +95,11 @@ impl<'a> Describer<'a> {
         }
     }
 
+    /// Whether the scene object has an attribute of this key (`color`).
+    pub fn has_attribute(&self, id: &str, key: &str) -> bool {
+        self.scene.object(id).is_some_and(|o| o.attributes.contains_key(key))
+    }
+
     /// The type of a scene object, spoken ("cash box").
     pub fn kind_of(&self, id: &str) -> Option<String> {
         self.scene.object(id).map(|o| spoken(&o.kind))

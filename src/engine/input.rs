@@ -189,7 +189,7 @@ pub trait Spelled: Sized + Copy + 'static {
 mod tests {
     use super::Spelled;
     use crate::engine::decision::Style;
-    use crate::engine::request::{SinglePermissible, Strategy};
+    use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 
     /// serde's word for every value is its one spelling, and reads back as that value.
     fn one_spelling<T>()
@@ -209,6 +209,7 @@ mod tests {
         one_spelling::<Strategy>();
         one_spelling::<SinglePermissible>();
         one_spelling::<Style>();
+        one_spelling::<SoftNorms>();
         assert_eq!(Strategy::expected(), "`moral` or `reflexive`");
     }
 }

@@ -10,21 +10,84 @@ use super::input::{Invalid, Spelled};
 use super::term::{Subst, Sym, Term};
 use super::world::World;
 
+/// What a norm is about (an action done, or a state entered) and its force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum NormKind {
     ForbiddenAction,
     ForbiddenState,
+    /// Should not: breaking it lowers a reading's norm score by its severity.
+    DiscouragedAction,
+    DiscouragedState,
+    /// Should: meeting it raises a reading's norm score by its severity.
+    PreferredAction,
+    PreferredState,
+}
+
+/// What meeting a norm does to a reading. Only `Forbidden` can make one impermissible; the soft
+/// forces only rank readings that are permissible and feasible.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Force {
+    Forbidden,
+    Discouraged,
+    Preferred,
+}
+
+impl NormKind {
+    /// Whether the norm names an action (its `action` member) rather than a state (`state`).
+    pub fn on_action(self) -> bool {
+        matches!(
+            self,
+            NormKind::ForbiddenAction | NormKind::DiscouragedAction | NormKind::PreferredAction
+        )
+    }
+
+    /// The norm's term as its `action` member or as its `state` member, whichever it has.
+    pub fn members<T>(self, term: T) -> (Option<T>, Option<T>) {
+        if self.on_action() {
+            (Some(term), None)
+        } else {
+            (None, Some(term))
+        }
+    }
+
+    pub fn force(self) -> Force {
+        match self {
+            NormKind::ForbiddenAction | NormKind::ForbiddenState => Force::Forbidden,
+            NormKind::DiscouragedAction | NormKind::DiscouragedState => Force::Discouraged,
+            NormKind::PreferredAction | NormKind::PreferredState => Force::Preferred,
+        }
+    }
+
+    pub fn is_soft(self) -> bool {
+        self.force() != Force::Forbidden
+    }
 }
 
 impl Spelled for NormKind {
-    const ALL: &'static [NormKind] = &[NormKind::ForbiddenAction, NormKind::ForbiddenState];
+    const ALL: &'static [NormKind] = &[
+        NormKind::ForbiddenAction,
+        NormKind::ForbiddenState,
+        NormKind::DiscouragedAction,
+        NormKind::DiscouragedState,
+        NormKind::PreferredAction,
+        NormKind::PreferredState,
+    ];
 
     fn as_str(self) -> &'static str {
         match self {
             NormKind::ForbiddenAction => "forbidden_action",
             NormKind::ForbiddenState => "forbidden_state",
+            NormKind::DiscouragedAction => "discouraged_action",
+            NormKind::DiscouragedState => "discouraged_state",
+            NormKind::PreferredAction => "preferred_action",
+            NormKind::PreferredState => "preferred_state",
         }
     }
+}
+
+/// The kinds as an error lists them: "forbidden_action, forbidden_state, ...".
+fn kinds_listed() -> String {
+    NormKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
 }
 
 pub const DEFAULT_SEVERITY: u8 = 3;
@@ -62,8 +125,8 @@ pub fn context_name(text: &str) -> Result<String, Invalid> {
     Ok(context)
 }
 
-/// A valid norm, not yet stored. `term` is the forbidden action (a bare name forbids every action
-/// of that name, any arity) or the forbidden state fact.
+/// A valid norm, not yet stored. `term` is the action (a bare name names every action of that
+/// name, any arity) or the state fact the norm is about.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NormSpec {
     pub kind: NormKind,
@@ -81,11 +144,13 @@ pub struct NormSpec {
     pub exempt_roles: Vec<String>,
 }
 
-/// Who asks and where: the context and the speaker's roles select the norms in force.
+/// Who asks and where: the context and the speaker's roles select the norms in force, and
+/// `soft` whether the soft norms are among them (off for `soft_norms: ignore`).
 #[derive(Clone, Copy, Debug)]
 pub struct Scope<'a> {
     pub context: &'a str,
     pub roles: &'a [String],
+    pub soft: bool,
 }
 
 /// A stored norm.
@@ -103,7 +168,8 @@ impl Norm {
     /// speaker's roles (if it names any), and it exempts none of them.
     fn applies_in(&self, scope: Scope<'_>) -> bool {
         let spec = &self.spec;
-        spec.context.as_deref().is_none_or(|c| c == scope.context)
+        (scope.soft || !spec.kind.is_soft())
+            && spec.context.as_deref().is_none_or(|c| c == scope.context)
             && (spec.roles.is_empty() || spec.roles.iter().any(|r| scope.roles.contains(r)))
             && !spec.exempt_roles.iter().any(|r| scope.roles.contains(r))
     }
@@ -141,44 +207,42 @@ impl NormInput {
     pub fn validate(self) -> Result<NormSpec, Invalid> {
         let kind_text = self
             .kind
-            .ok_or_else(|| Invalid::new("/kind", "missing; one of forbidden_action, forbidden_state"))?;
+            .ok_or_else(|| Invalid::new("/kind", format!("missing; one of {}", kinds_listed())))?;
         let kind = NormKind::parse(&kind_text).ok_or_else(|| {
             Invalid::new(
                 "/kind",
-                format!("unknown kind `{kind_text}`; one of forbidden_action, forbidden_state"),
+                format!("unknown kind `{kind_text}`; one of {}", kinds_listed()),
             )
         })?;
-        let term = match kind {
-            NormKind::ForbiddenAction => {
-                if self.state.is_some() {
-                    return Err(Invalid::new(
-                        "/state",
-                        "a forbidden_action norm has `action`, not `state`",
-                    ));
-                }
-                let text = self
-                    .action
-                    .ok_or_else(|| Invalid::new("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
-                let action = parse_literal("/action", &text, "an action")?;
-                // A norm on a verb no library can hold applies nowhere, and its words would be
-                // empty ("_ is forbidden action").
-                if let Some(name) = action.name() {
-                    super::action::verb_name(name).map_err(|m| Invalid::new("/action", m))?;
-                }
-                action
+        let name = kind.as_str();
+        let term = if kind.on_action() {
+            if self.state.is_some() {
+                return Err(Invalid::new(
+                    "/state",
+                    format!("a {name} norm has `action`, not `state`"),
+                ));
             }
-            NormKind::ForbiddenState => {
-                if self.action.is_some() {
-                    return Err(Invalid::new(
-                        "/action",
-                        "a forbidden_state norm has `state`, not `action`",
-                    ));
-                }
-                let text = self
-                    .state
-                    .ok_or_else(|| Invalid::new("/state", "missing; e.g. \"holding(self,X)\""))?;
-                parse_literal("/state", &text, "a state")?
+            let text = self
+                .action
+                .ok_or_else(|| Invalid::new("/action", "missing; e.g. \"destroy\" or \"get(X)\""))?;
+            let action = parse_literal("/action", &text, "an action")?;
+            // A norm on a verb no library can hold applies nowhere, and its words would be
+            // empty ("_ is forbidden action").
+            if let Some(name) = action.name() {
+                super::action::verb_name(name).map_err(|m| Invalid::new("/action", m))?;
             }
+            action
+        } else {
+            if self.action.is_some() {
+                return Err(Invalid::new(
+                    "/action",
+                    format!("a {name} norm has `state`, not `action`"),
+                ));
+            }
+            let text = self
+                .state
+                .ok_or_else(|| Invalid::new("/state", "missing; e.g. \"holding(self,X)\""))?;
+            parse_literal("/state", &text, "a state")?
         };
         let when_texts = self.when.unwrap_or_default();
         if when_texts.len() > MAX_WHEN {
@@ -250,7 +314,7 @@ pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<Str
     Ok(roles)
 }
 
-/// A forbidden-action or forbidden-state rule, as checks use it.
+/// A norm as checks use it.
 #[derive(Debug)]
 struct Rule {
     norm: Norm,
@@ -260,34 +324,63 @@ struct Rule {
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
+/// Soft norms sit in the same indexes as forbidden ones: a norm nobody's action or fact names
+/// costs nothing.
 #[derive(Debug, Default)]
 pub struct CompiledNorms {
     pub version: i64,
     rules: Vec<Rule>,
-    /// Forbidden-action rules by the action's name, in id order.
+    /// Action rules by the action's name, in id order.
     actions_by_name: FxHashMap<Sym, Vec<usize>>,
-    /// Forbidden-state rules by the functor/arity of each of their literals, with the literal's
+    /// State rules by the functor/arity of each of their literals, with the literal's
     /// position; in id order.
     states_by_key: FxHashMap<(Sym, usize), Vec<(usize, usize)>>,
-    /// Ground literals of forbidden-state rules (`on(o1,o2)`), by the very fact: a new fact
-    /// finds them with one hash lookup instead of a unification per norm.
+    /// Ground literals of state rules (`on(o1,o2)`), by the very fact: a new fact finds them
+    /// with one hash lookup instead of a unification per norm.
     states_by_fact: FxHashMap<Term, Vec<(usize, usize)>>,
 }
 
-/// A forbidden action found: which norm, and the name it forbids (spoken in refusals).
+/// What a soft norm that counted was about: its `when` facts as they held (instantiated), and
+/// its note, for the words of the reason.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SoftMatch {
+    pub when: Vec<Term>,
+    pub note: Option<String>,
+}
+
+/// An action norm met: which norm, and the name it is about (spoken in refusals).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ActionViolation {
     pub norm_id: i64,
+    pub kind: NormKind,
     pub severity: u8,
     pub name: Sym,
+    /// Set for a soft norm only.
+    pub soft: Option<SoftMatch>,
 }
 
-/// A forbidden state entered: which norm, and the fact (the norm's state, instantiated).
+/// A state norm met by a state entered: which norm, and the fact (the norm's state,
+/// instantiated).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StateViolation {
     pub norm_id: i64,
+    pub kind: NormKind,
     pub severity: u8,
     pub fact: Term,
+    /// Set for a soft norm only.
+    pub soft: Option<SoftMatch>,
+}
+
+impl Rule {
+    /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
+    /// needs no words beyond its kind.
+    fn soft_match(&self, solution: &Subst) -> Option<SoftMatch> {
+        let spec = &self.norm.spec;
+        spec.kind.is_soft().then(|| SoftMatch {
+            when: spec.when.iter().map(|w| w.substitute(solution)).collect(),
+            note: spec.note.clone(),
+        })
+    }
 }
 
 impl CompiledNorms {
@@ -302,26 +395,23 @@ impl CompiledNorms {
             let index = compiled.rules.len();
             let mut literals = vec![norm.spec.term.clone()];
             literals.extend(norm.spec.when.iter().cloned());
-            match norm.spec.kind {
-                NormKind::ForbiddenAction => {
-                    if let Some(name) = norm.spec.term.name() {
-                        compiled.actions_by_name.entry(name.clone()).or_default().push(index);
-                    }
+            if norm.spec.kind.on_action() {
+                if let Some(name) = norm.spec.term.name() {
+                    compiled.actions_by_name.entry(name.clone()).or_default().push(index);
                 }
-                NormKind::ForbiddenState => {
-                    for (position, literal) in literals.iter().enumerate() {
-                        if let Some(name) = literal.name() {
-                            let entry = if literal.is_ground() {
-                                compiled.states_by_fact.entry(literal.clone()).or_default()
-                            } else {
-                                compiled
-                                    .states_by_key
-                                    .entry((name.clone(), literal.arity()))
-                                    .or_default()
-                            };
-                            if entry.last() != Some(&(index, position)) {
-                                entry.push((index, position));
-                            }
+            } else {
+                for (position, literal) in literals.iter().enumerate() {
+                    if let Some(name) = literal.name() {
+                        let entry = if literal.is_ground() {
+                            compiled.states_by_fact.entry(literal.clone()).or_default()
+                        } else {
+                            compiled
+                                .states_by_key
+                                .entry((name.clone(), literal.arity()))
+                                .or_default()
+                        };
+                        if entry.last() != Some(&(index, position)) {
+                            entry.push((index, position));
                         }
                     }
                 }
@@ -339,8 +429,9 @@ impl CompiledNorms {
         self.rules.is_empty()
     }
 
-    /// Forbidden-action norms in force in `scope` that `action` violates in `world` (the world
-    /// before the action). A norm naming only an action (`destroy`) matches it at any arity.
+    /// Action norms in force in `scope` that `action` meets in `world` (the world before the
+    /// action): forbidden and discouraged ones it breaks, preferred ones it follows. A norm
+    /// naming only an action (`destroy`) matches it at any arity.
     pub fn check_action(&self, action: &Term, world: &World, scope: Scope<'_>) -> Vec<ActionViolation> {
         let Some(name) = action.name() else {
             return Vec::new();
@@ -360,19 +451,39 @@ impl CompiledNorms {
                 Term::Const(_) => true,
                 _ => subst.unify(pattern, action),
             };
-            if matched && world.satisfiable(&rule.norm.spec.when, &subst) {
-                out.push(ActionViolation {
-                    norm_id: rule.norm.id,
-                    severity: rule.norm.spec.severity,
-                    name: name.clone(),
-                });
+            if !matched {
+                continue;
             }
+            let spec = &rule.norm.spec;
+            let soft = if spec.kind.is_soft() {
+                // The first solution of `when` is the one its words name.
+                let mut found = None;
+                world.solve(&spec.when, &subst, &mut |solution| {
+                    found = rule.soft_match(solution);
+                    false
+                });
+                if found.is_none() {
+                    continue;
+                }
+                found
+            } else if world.satisfiable(&spec.when, &subst) {
+                None
+            } else {
+                continue;
+            };
+            out.push(ActionViolation {
+                norm_id: rule.norm.id,
+                kind: spec.kind,
+                severity: spec.severity,
+                name: name.clone(),
+                soft,
+            });
         }
         out
     }
 
-    /// Forbidden states that `world` is in because of the facts in `new_facts` (just made true):
-    /// each violation involves at least one of them, so states the world was already in are not
+    /// State norms in force that `world` meets because of the facts in `new_facts` (just made
+    /// true): each involves at least one of them, so states the world was already in are not
     /// reported again. Deterministic: by new fact, then norm id, then solution order.
     pub fn check_entered(&self, new_facts: &[Term], world: &World, scope: Scope<'_>) -> Vec<StateViolation> {
         let mut out: Vec<StateViolation> = Vec::new();
@@ -392,16 +503,21 @@ impl CompiledNorms {
                 if !seed.unify(&rule.literals[position], fact) {
                     continue;
                 }
+                let soft = rule.norm.spec.kind.is_soft();
                 world.solve(&rule.literals, &seed, &mut |solution| {
                     let state = rule.norm.spec.term.substitute(solution);
-                    if !out.iter().any(|v| v.norm_id == rule.norm.id && v.fact == state) {
+                    // A soft norm counts once per reading: its first state is enough.
+                    let seen = |v: &StateViolation| v.norm_id == rule.norm.id && (soft || v.fact == state);
+                    if !out.iter().any(seen) {
                         out.push(StateViolation {
                             norm_id: rule.norm.id,
+                            kind: rule.norm.spec.kind,
                             severity: rule.norm.spec.severity,
                             fact: state,
+                            soft: rule.soft_match(solution),
                         });
                     }
-                    true
+                    !soft
                 });
             }
         }

@@ -40,6 +40,28 @@ pub enum SinglePermissible {
     Confirm,
 }
 
+/// Whether soft norms rank the readings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SoftNorms {
+    /// Among the acceptable readings only those with the highest norm score are kept.
+    #[default]
+    Rank,
+    /// Soft norms are not checked: an experiment's control condition.
+    Ignore,
+}
+
+impl Spelled for SoftNorms {
+    const ALL: &'static [SoftNorms] = &[SoftNorms::Rank, SoftNorms::Ignore];
+
+    fn as_str(self) -> &'static str {
+        match self {
+            SoftNorms::Rank => "rank",
+            SoftNorms::Ignore => "ignore",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     pub strategy: Strategy,
@@ -53,6 +75,7 @@ pub struct Options {
     /// When exactly one reading is acceptable and the share of the others is above this ratio,
     /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
     pub confirm_above_ratio: Option<f64>,
+    pub soft_norms: SoftNorms,
 }
 
 impl Default for Options {
@@ -64,6 +87,7 @@ impl Default for Options {
             max_spoken: DEFAULT_MAX_SPOKEN,
             max_readings: DEFAULT_MAX_READINGS,
             confirm_above_ratio: None,
+            soft_norms: SoftNorms::Rank,
         }
     }
 }
@@ -174,6 +198,7 @@ pub struct OptionsInput {
     pub max_readings: Option<u64>,
     pub deadline_ms: Option<u64>,
     pub confirm_above_ratio: Option<f64>,
+    pub soft_norms: Option<SoftNorms>,
 }
 
 /// A whole clarify request as a client sent it, before anything is checked.
@@ -293,6 +318,7 @@ impl Options {
             max_spoken: max_spoken as usize,
             max_readings: max_readings as usize,
             confirm_above_ratio: options.confirm_above_ratio,
+            soft_norms: options.soft_norms.unwrap_or_default(),
         };
         Ok((options, deadline))
     }

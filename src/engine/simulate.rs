@@ -5,7 +5,8 @@
 //! readings, or decide what to say.
 
 use super::action::{Library, Method, Step};
-use super::norms::{CompiledNorms, Scope};
+use super::input::Spelled;
+use super::norms::{CompiledNorms, Force, NormKind, Scope, SoftMatch};
 use super::scene::{Scene, grasp_width, room_on};
 use super::term::{Subst, Sym, Term};
 use super::world::World;
@@ -13,9 +14,18 @@ use super::world::World;
 /// Steps may expand into steps at most this deep; a deeper plan is a reason, not a crash.
 pub const MAX_PLAN_DEPTH: usize = 8;
 
-/// Why a reading is impermissible or infeasible.
+/// Why a reading is impermissible or infeasible, or a soft norm it meets.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cause {
+    /// A soft norm (`kind` discouraged or preferred) met by `what`: the step done, for an action
+    /// norm, or the fact entered, for a state norm. `about` holds the norm's `when` facts, as
+    /// they held, that name one of the reading's own objects; `note` is the norm's.
+    Soft {
+        kind: NormKind,
+        what: Term,
+        about: Vec<Term>,
+        note: Option<String>,
+    },
     /// `step` is done, and a norm forbids actions named `name`.
     ForbiddenAction { step: Term, name: Sym },
     /// The world would enter a state in which `fact` holds, and a norm forbids it.
@@ -76,6 +86,7 @@ impl Reason {
     /// The contract's reason kind.
     pub fn kind(&self) -> &'static str {
         match self.cause {
+            Cause::Soft { kind, .. } => Spelled::as_str(kind),
             Cause::ForbiddenAction { .. } => "forbidden_action",
             Cause::ForbiddenState { .. } => "forbidden_state",
             Cause::UnknownAction { .. } => "unknown_action",
@@ -95,6 +106,7 @@ impl Reason {
     /// What exactly: the forbidden step or fact, the unknown verb, the object out of reach.
     pub fn detail(&self) -> String {
         match &self.cause {
+            Cause::Soft { what, .. } => what.to_string(),
             Cause::ForbiddenAction { step, .. } => step.to_string(),
             Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.to_string(),
             Cause::UnknownAction { verb } => verb.to_string(),
@@ -112,6 +124,20 @@ impl Reason {
     /// The reason as a term, as speech acts carry it: `forbiddenAction(destroy)`.
     pub fn term(&self) -> Term {
         let (name, arg) = match &self.cause {
+            Cause::Soft { kind, what, .. } => {
+                let name = match kind {
+                    NormKind::DiscouragedAction => "discouragedAction",
+                    NormKind::DiscouragedState => "discouragedState",
+                    NormKind::PreferredAction => "preferredAction",
+                    _ => "preferredState",
+                };
+                // An action norm is named by its verb, as `forbiddenAction(destroy)` is.
+                let arg = match (kind.on_action(), what.name()) {
+                    (true, Some(verb)) => Term::Const(verb.clone()),
+                    _ => what.clone(),
+                };
+                (name, arg)
+            }
             Cause::ForbiddenAction { name, .. } => ("forbiddenAction", Term::Const(name.clone())),
             Cause::ForbiddenState { fact } => ("forbiddenState", fact.clone()),
             Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
@@ -133,8 +159,33 @@ impl Reason {
         Term::compound(name, vec![arg])
     }
 
+    /// A forbidden action or state: the reading is impermissible.
     pub fn is_norm_violation(&self) -> bool {
         matches!(self.cause, Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. })
+    }
+
+    /// A soft norm met: it ranks the reading and never makes it impermissible or infeasible.
+    pub fn is_soft(&self) -> bool {
+        matches!(self.cause, Cause::Soft { .. })
+    }
+
+    /// The force of a soft reason, if it is one.
+    pub fn force(&self) -> Option<Force> {
+        match &self.cause {
+            Cause::Soft { kind, .. } => Some(kind.force()),
+            _ => None,
+        }
+    }
+
+    /// What this reason adds to the norm score: a preferred norm's severity, minus a
+    /// discouraged norm's; 0 for every other reason.
+    pub fn norm_score(&self) -> i32 {
+        let severity = i32::from(self.severity.unwrap_or(0));
+        match self.force() {
+            Some(Force::Preferred) => severity,
+            Some(Force::Discouraged) => -severity,
+            _ => 0,
+        }
     }
 }
 
@@ -154,12 +205,30 @@ impl Outcome {
         self.reasons.iter().any(|r| r.cause == Cause::Unfinished)
     }
 
+    /// No forbidden action or state (soft norms never make a reading impermissible).
     pub fn permissible(&self) -> bool {
         !self.reasons.iter().any(Reason::is_norm_violation)
     }
 
+    /// No reason that is not a norm's (soft norms never make a reading infeasible).
     pub fn feasible(&self) -> bool {
-        self.reasons.iter().all(Reason::is_norm_violation)
+        self.reasons.iter().all(|r| r.is_norm_violation() || r.is_soft())
+    }
+
+    /// The first reason that is not a soft norm's: what a refusal or an explanation speaks.
+    pub fn first_hard(&self) -> Option<&Reason> {
+        self.reasons.iter().find(|r| !r.is_soft())
+    }
+
+    /// Preferred norms met minus discouraged norms broken, each by its severity, each norm
+    /// once: soft reasons are kept once per norm.
+    pub fn norm_score(&self) -> i32 {
+        self.reasons.iter().map(Reason::norm_score).sum()
+    }
+
+    /// The discouraged norms this reading breaks.
+    pub fn discouraged(&self) -> impl Iterator<Item = &Reason> {
+        self.reasons.iter().filter(|r| r.force() == Some(Force::Discouraged))
     }
 }
 
@@ -191,6 +260,8 @@ pub struct Env<'a> {
 
 struct Run<'a> {
     env: &'a Env<'a>,
+    /// The reading's own action: a soft reason's words name only facts about its objects.
+    reading: &'a Term,
     world: World,
     outcome: Outcome,
     /// Set once `expired` said so: nothing more is expanded.
@@ -204,30 +275,59 @@ impl Run<'_> {
     }
 
     fn push(&mut self, reason: Reason) {
-        if !self.outcome.reasons.contains(&reason) {
+        // A soft norm counts once per reading, at the first step or state that met it.
+        let seen = if reason.is_soft() {
+            (self.outcome.reasons.iter()).any(|r| r.is_soft() && r.norm_id == reason.norm_id)
+        } else {
+            self.outcome.reasons.contains(&reason)
+        };
+        if !seen {
             self.outcome.reasons.push(reason);
+        }
+    }
+
+    /// The soft reason for a norm met by `what`, its `when` facts kept where they name one of
+    /// the reading's objects.
+    fn soft(&self, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
+        let objects = self.reading.args();
+        let about = (found.when.into_iter())
+            .filter(|fact| fact.args().iter().any(|a| objects.contains(a)))
+            .collect();
+        Cause::Soft {
+            kind,
+            what,
+            about,
+            note: found.note,
         }
     }
 
     fn check_action(&mut self, action: &Term) {
         for v in self.env.norms.check_action(action, &self.world, self.env.scope) {
-            self.push(Reason {
-                cause: Cause::ForbiddenAction {
+            let cause = match v.soft {
+                Some(found) => self.soft(v.kind, action.clone(), found),
+                None => Cause::ForbiddenAction {
                     step: action.clone(),
                     name: v.name,
                 },
+            };
+            self.push(Reason {
+                cause,
                 norm_id: Some(v.norm_id),
                 severity: Some(v.severity),
             });
         }
     }
 
-    /// Forbidden states the world is in because of `new_facts`, just made true in it.
+    /// State norms the world meets because of `new_facts`, just made true in it.
     fn check_entered(&mut self, new_facts: &[Term]) {
         let found = self.env.norms.check_entered(new_facts, &self.world, self.env.scope);
         for v in found {
+            let cause = match v.soft {
+                Some(found) => self.soft(v.kind, v.fact, found),
+                None => Cause::ForbiddenState { fact: v.fact },
+            };
             self.push(Reason {
-                cause: Cause::ForbiddenState { fact: v.fact },
+                cause,
                 norm_id: Some(v.norm_id),
                 severity: Some(v.severity),
             });
@@ -281,6 +381,7 @@ impl Run<'_> {
         for method in &def.methods {
             let mut attempt = Run {
                 env,
+                reading: self.reading,
                 world: self.world.clone(),
                 outcome: Outcome::default(),
                 stopped: false,
@@ -290,7 +391,11 @@ impl Run<'_> {
                 self.stop();
                 return;
             }
-            if attempt.outcome.reasons.is_empty() {
+            // Soft norms do not make a method fail: they rank readings, not plans.
+            if attempt.outcome.reasons.iter().all(Reason::is_soft) {
+                for reason in attempt.outcome.reasons {
+                    self.push(reason);
+                }
                 self.world = attempt.world;
                 self.outcome.plan.extend(attempt.outcome.plan);
                 return;
@@ -407,6 +512,7 @@ pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
 pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, World) {
     let mut run = Run {
         env,
+        reading: action,
         world,
         outcome: Outcome::default(),
         stopped: false,

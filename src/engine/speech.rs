@@ -4,11 +4,23 @@
 //! Owns: every sentence and every speech-act term. Must not: decide anything; it only words the
 //! plan `clarify` made, and it never names a reading the plan does not name.
 
+use std::borrow::Cow;
+
 use super::decision::{Interpretation, Plan, Style, Unclear};
 use super::describe::Describer;
+use super::norms::Force;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
+
+/// The reason a refusal or an explanation speaks: the first that is not a soft norm's. A reading
+/// the plan turns down always has one; the deadline's reason stands in should it not.
+fn hard(i: &Interpretation) -> Cow<'_, Reason> {
+    match i.outcome.first_hard() {
+        Some(reason) => Cow::Borrowed(reason),
+        None => Cow::Owned(Reason::unfinished()),
+    }
+}
 
 fn act(name: &str, what: Term) -> Term {
     Term::compound(name, vec![Term::constant("self"), what])
@@ -35,10 +47,7 @@ fn one_or_and(mut terms: Vec<Term>) -> Term {
 fn cannot_term(i: &Interpretation) -> Term {
     Term::compound(
         "cannot",
-        vec![
-            i.action.clone(),
-            Term::compound("because", vec![i.outcome.reasons[0].term()]),
-        ],
+        vec![i.action.clone(), Term::compound("because", vec![hard(i).term()])],
     )
 }
 
@@ -87,6 +96,7 @@ pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
 /// The reason in the paper's words, as the contract's table gives them.
 pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
     match &reason.cause {
+        Cause::Soft { .. } => soft_words(reason, describer),
         Cause::ForbiddenAction { name, .. } => format!("{name} is forbidden action"),
         Cause::ForbiddenState { .. } => "it requires a forbidden state".to_owned(),
         Cause::UnknownAction { verb } => format!("I do not know how to {}", spoken(verb)),
@@ -234,6 +244,7 @@ fn capitalise(text: &str) -> String {
 pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
     let grave = reason.severity.unwrap_or(3) >= 4;
     match &reason.cause {
+        Cause::Soft { .. } => soft_words(reason, describer),
         Cause::ForbiddenAction { name, .. } => {
             let rule = if grave { "is forbidden" } else { "is not allowed" };
             format!("{} things {rule}", gerund(name))
@@ -268,18 +279,14 @@ pub fn reason_words(reason: &Reason, style: Style, describer: &mut Describer<'_>
 
 /// `I cannot {reading} because {reason}` (diarc).
 fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
-    format!(
-        "I cannot {} because {}",
-        i.reading,
-        diarc_reason(&i.outcome.reasons[0], describer)
-    )
+    format!("I cannot {} because {}", i.reading, diarc_reason(&hard(i), describer))
 }
 
 /// How firmly a reading is turned down in the natural style, by its first reason: a norm's
 /// severity sets the tone (1–2 gentle, 3 plain, 4–5 firm); an inability is a plain "can't".
 fn natural_refusal(i: &Interpretation, describer: &mut Describer<'_>) -> String {
-    let reason = &i.outcome.reasons[0];
-    let why = natural_reason(reason, describer);
+    let reason = hard(i);
+    let why = natural_reason(&reason, describer);
     if !reason.is_norm_violation() {
         return format!("I can't {}: {why}.", i.reading);
     }
@@ -299,11 +306,11 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
     // same reason in the same words, under the same severity.
     let words: Vec<String> = which
         .iter()
-        .map(|&i| natural_reason(&all[i].outcome.reasons[0], describer))
+        .map(|&i| natural_reason(&hard(&all[i]), describer))
         .collect();
     let same = which.iter().zip(&words).all(|(&i, w)| {
         let a = &all[i];
-        let (r, r0) = (&a.outcome.reasons[0], &first.outcome.reasons[0]);
+        let (r, r0) = (hard(a), hard(first));
         a.action.args().get(1).and_then(Term::name) == Some(&verb)
             && a.action.args().get(1).map(Term::arity) == Some(1)
             && r.is_norm_violation() == r0.is_norm_violation()
@@ -324,7 +331,7 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
     if kinds.iter().any(|k| k.as_ref() != Some(&noun)) {
         return None;
     }
-    let reason = &first.outcome.reasons[0];
+    let reason = hard(first);
     let why = &words[0];
     let quantity = if which.len() == 2 {
         format!("either {noun}")
@@ -341,6 +348,116 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
     } else {
         format!("I can't {verb} {quantity}: {why}.")
     })
+}
+
+/// A soft reason in words, the same in both styles: the norm's `when` facts about the reading's
+/// objects ("the mug is dirty"), else its note, else "it is discouraged" / "it is preferred".
+fn soft_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
+    let Cause::Soft { kind, about, note, .. } = &reason.cause else {
+        return String::new();
+    };
+    let facts: Vec<String> = about.iter().filter_map(|fact| fact_words(fact, describer)).collect();
+    if !facts.is_empty() {
+        return listed(&facts, "and");
+    }
+    match (note, kind.force()) {
+        (Some(note), _) if !note.trim().is_empty() => note.trim().to_owned(),
+        (_, Force::Preferred) => "it is preferred".to_owned(),
+        _ => "it is discouraged".to_owned(),
+    }
+}
+
+/// A fact about an object, in words: `dirty(mug1)` → "the mug is dirty", `color(mug1,red)` →
+/// "the color of the mug is red", `on(plate1,floor1)` → "the plate is on the floor". An
+/// object's own type says nothing the description does not (`None`).
+fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
+    let name = spoken(fact.name()?);
+    let subject_id = fact.args().first()?.name()?;
+    Some(match fact.args() {
+        [subject] if describer.kind_of(subject_id).as_deref() == Some(name.as_str()) => return None,
+        [subject] => format!("{} is {name}", describer.argument(subject)),
+        [subject, value] if describer.has_attribute(subject_id, fact.name()?) => format!(
+            "the {name} of {} is {}",
+            describer.argument(subject),
+            describer.argument(value)
+        ),
+        [subject, other] => format!(
+            "{} is {name} {}",
+            describer.argument(subject),
+            describer.argument(other)
+        ),
+        _ => fact.to_string(),
+    })
+}
+
+/// What a reading that breaks a discouraged norm is still done "although": the words of each
+/// discouraged reason, and the greatest severity among them.
+fn although(i: &Interpretation, describer: &mut Describer<'_>) -> Option<(String, u8)> {
+    let broken: Vec<&Reason> = i.outcome.discouraged().collect();
+    let severity = broken.iter().filter_map(|r| r.severity).max()?;
+    let words: Vec<String> = broken.iter().map(|r| soft_words(r, describer)).collect();
+    Some((listed(&words, "and"), severity))
+}
+
+/// Why `dispreferred` scores below `chosen`, and how strongly: the discouraged norms it breaks
+/// that `chosen` does not, else the preferred norms `chosen` meets that it does not ("the blue
+/// mug is clean"), else every discouraged norm it breaks.
+fn dispreferred_reasons<'a>(dispreferred: &'a Interpretation, chosen: &'a Interpretation) -> Vec<&'a Reason> {
+    let has = |i: &Interpretation, r: &Reason| i.outcome.reasons.iter().any(|s| s.is_soft() && s.norm_id == r.norm_id);
+    let own: Vec<&Reason> = dispreferred.outcome.discouraged().filter(|r| !has(chosen, r)).collect();
+    if !own.is_empty() {
+        return own;
+    }
+    let missed: Vec<&Reason> = (chosen.outcome.reasons.iter())
+        .filter(|r| r.force() == Some(Force::Preferred) && !has(dispreferred, r))
+        .collect();
+    if !missed.is_empty() {
+        return missed;
+    }
+    dispreferred.outcome.discouraged().collect()
+}
+
+/// The words of [`dispreferred_reasons`]. A preferred norm with nothing to name is said of the
+/// chosen reading: "getting the plastic vase is preferred".
+fn dispreferred_words(dispreferred: &Interpretation, chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
+    let words: Vec<String> = dispreferred_reasons(dispreferred, chosen)
+        .into_iter()
+        .map(|r| match (r.force(), soft_words(r, describer)) {
+            (Some(Force::Preferred), words) if words == "it is preferred" => {
+                format!("{} is preferred", doing(chosen))
+            }
+            (_, words) => words,
+        })
+        .collect();
+    if words.is_empty() {
+        return "it is discouraged".to_owned();
+    }
+    listed(&words, "and")
+}
+
+/// A reading as a gerund: "getting the plastic vase".
+fn doing(i: &Interpretation) -> String {
+    let verb = i.action.args().get(1).and_then(Term::name).map(|n| gerund(n));
+    match (verb, i.description.is_empty()) {
+        (Some(verb), true) => verb,
+        (Some(verb), false) => format!("{verb} {}", i.description),
+        (None, _) => i.reading.clone(),
+    }
+}
+
+/// A dispreferred reading in fluent words; the strength of the norms behind it sets the tone
+/// (1–2 mild, 3 plain, 4–5 strong).
+fn natural_rather_not(dispreferred: &Interpretation, chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
+    let why = dispreferred_words(dispreferred, chosen, describer);
+    let strength = (dispreferred_reasons(dispreferred, chosen).iter())
+        .filter_map(|r| r.severity)
+        .max()
+        .unwrap_or(3);
+    match strength {
+        1 | 2 => format!("I'd slightly prefer not to {}: {why}.", dispreferred.reading),
+        3 => format!("I'd rather not {}: {why}.", dispreferred.reading),
+        _ => format!("I really shouldn't {}: {why}.", dispreferred.reading),
+    }
 }
 
 /// Joins phrases as a list: "a", "a or b", "a, b, or c".
@@ -362,14 +479,26 @@ pub fn utterance(plan: &Plan, all: &[Interpretation], style: Style, describer: &
 }
 
 fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> String {
-    let others = |others: &[usize], describer: &mut Describer<'_>| -> String {
+    // After the reading chosen, each other: a dispreferred one (acceptable, but with a lower
+    // norm score) is one the robot would rather not do; any other one it cannot.
+    let others = |chosen: usize, others: &[usize], describer: &mut Describer<'_>| -> String {
         others
             .iter()
-            .map(|&i| format!(" {}.", diarc_cannot(&all[i], describer)))
+            .map(|&i| match all[i].acceptable() {
+                true => format!(
+                    " I would rather not {} because {}.",
+                    all[i].reading,
+                    dispreferred_words(&all[i], &all[chosen], describer)
+                ),
+                false => format!(" {}.", diarc_cannot(&all[i], describer)),
+            })
             .collect()
     };
     match plan {
-        Plan::Comply(_) => "Okay.".to_owned(),
+        Plan::Comply(i) => match although(&all[*i], describer) {
+            Some((why, _)) => format!("Okay, although {why}."),
+            None => "Okay.".to_owned(),
+        },
         Plan::Refuse(i) => format!("{}.", diarc_cannot(&all[*i], describer)),
         Plan::Ask { offered, more } => {
             let readings: Vec<&str> = offered.iter().map(|&i| all[i].reading.as_str()).collect();
@@ -383,11 +512,13 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
         Plan::Assume { chosen, others: rest } => format!(
             "I am assuming you want me to {}.{}",
             all[*chosen].reading,
-            others(rest, describer)
+            others(*chosen, rest, describer)
         ),
-        Plan::Confirm { chosen, others: rest } => {
-            format!("Do you want me to {}?{}", all[*chosen].reading, others(rest, describer))
-        }
+        Plan::Confirm { chosen, others: rest } => format!(
+            "Do you want me to {}?{}",
+            all[*chosen].reading,
+            others(*chosen, rest, describer)
+        ),
         Plan::Explain(which) => {
             let clauses: Vec<String> = which
                 .iter()
@@ -417,14 +548,22 @@ fn not_understood(why: Unclear, words: &str) -> String {
 }
 
 fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> String {
-    let others = |others: &[usize], describer: &mut Describer<'_>| -> String {
+    let others = |chosen: usize, others: &[usize], describer: &mut Describer<'_>| -> String {
         others
             .iter()
-            .map(|&i| format!(" {}", natural_refusal(&all[i], describer)))
+            .map(|&i| match all[i].acceptable() {
+                true => format!(" {}", natural_rather_not(&all[i], &all[chosen], describer)),
+                false => format!(" {}", natural_refusal(&all[i], describer)),
+            })
             .collect()
     };
     match plan {
-        Plan::Comply(i) => format!("Okay, I will {}.", all[*i].reading),
+        Plan::Comply(i) => match although(&all[*i], describer) {
+            // A strong "should not" is put plainly; a mild one as an aside.
+            Some((why, 4..)) => format!("Okay, I will {}, but you should know that {why}.", all[*i].reading),
+            Some((why, _)) => format!("Okay, I will {}, although {why}.", all[*i].reading),
+            None => format!("Okay, I will {}.", all[*i].reading),
+        },
         Plan::Refuse(i) => natural_refusal(&all[*i], describer),
         Plan::Ask { offered, more } => {
             // One verb throughout: say it once and list what it applies to.
@@ -446,10 +585,10 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
         }
         Plan::AskWhich { nouns } => format!("{} do you mean?", capitalise(&listed(&which(nouns), "and"))),
         Plan::Assume { chosen, others: rest } => {
-            format!("I'll {}.{}", all[*chosen].reading, others(rest, describer))
+            format!("I'll {}.{}", all[*chosen].reading, others(*chosen, rest, describer))
         }
         Plan::Confirm { chosen, others: rest } => {
-            format!("Should I {}?{}", all[*chosen].reading, others(rest, describer))
+            format!("Should I {}?{}", all[*chosen].reading, others(*chosen, rest, describer))
         }
         Plan::Explain(which) => natural_grouped(which, all, describer).unwrap_or_else(|| {
             which

@@ -84,10 +84,7 @@ impl NormRow {
     pub(super) fn into_norm(self) -> Result<Norm, StoreError> {
         let id = self.id;
         let kind = NormKind::parse(&self.kind).ok_or_else(|| corrupt(id, "unknown kind"))?;
-        let (action, state) = match kind {
-            NormKind::ForbiddenAction => (Some(self.term), None),
-            NormKind::ForbiddenState => (None, Some(self.term)),
-        };
+        let (action, state) = kind.members(self.term);
         let input = NormInput {
             kind: Some(self.kind),
             action,
@@ -203,11 +200,7 @@ struct AuditedNorm<'a> {
 
 fn norm_json(norm: &Norm) -> serde_json::Value {
     let spec = &norm.spec;
-    let term = Some(spec.term.to_string());
-    let (action, state) = match spec.kind {
-        NormKind::ForbiddenAction => (term, None),
-        NormKind::ForbiddenState => (None, term),
-    };
+    let (action, state) = spec.kind.members(spec.term.to_string());
     let record = AuditedNorm {
         id: norm.id,
         revision: norm.revision,

@@ -7,7 +7,7 @@ use utoipa::ToSchema;
 
 use crate::engine::decision::{Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
-    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, Strategy,
+    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms, Strategy,
 };
 use crate::engine::resolve::ReferenceInput;
 use crate::engine::scene::{AgentInput, ObjectInput, SceneInput, Shape};
@@ -216,6 +216,10 @@ pub struct OptionsBody {
     #[serde(default)]
     #[schema(minimum = 0, exclusive_maximum = 1)]
     pub confirm_above_ratio: Option<f64>,
+    /// `rank` (default: among the acceptable readings only those with the highest norm score
+    /// are kept) or `ignore` (soft norms are not checked: a control condition).
+    #[serde(default)]
+    pub soft_norms: Option<SoftNorms>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -328,6 +332,7 @@ impl From<OptionsBody> for OptionsInput {
             max_readings: o.max_readings,
             deadline_ms: o.deadline_ms,
             confirm_above_ratio: o.confirm_above_ratio,
+            soft_norms: o.soft_norms,
         }
     }
 }
@@ -372,7 +377,16 @@ pub struct InterpretationDto {
     pub reasons: Vec<ReasonDto>,
     /// The primitive steps simulated, in order, as canonical terms.
     pub plan: Vec<String>,
+    /// The resolution score (higher is likelier).
     pub score: f64,
+    /// Severities of the preferred norms met minus those of the discouraged norms broken;
+    /// absent when 0.
+    #[serde(skip_serializing_if = "is_zero", default)]
+    pub norm_score: i32,
+}
+
+fn is_zero(n: &i32) -> bool {
+    *n == 0
 }
 
 impl From<&Interpretation> for InterpretationDto {
@@ -385,6 +399,7 @@ impl From<&Interpretation> for InterpretationDto {
             reasons: reason_dtos(&i.outcome.reasons, &i.reason_words),
             plan: i.outcome.plan.iter().map(Term::to_string).collect(),
             score: i.score,
+            norm_score: i.norm_score(),
         }
     }
 }

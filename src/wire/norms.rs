@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::engine::input::Spelled;
-use crate::engine::norms::{Norm, NormInput, NormKind};
+use crate::engine::norms::{Norm, NormInput};
 use crate::engine::term::Term;
 
 /// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
@@ -17,6 +17,8 @@ pub struct NormBody {
     pub id: Option<i64>,
     /// Informational (an exported or fetched norm carries it); preconditions go in `If-Match`.
     pub revision: Option<i64>,
+    /// `forbidden_action`, `forbidden_state`; or, softer, `discouraged_action`,
+    /// `discouraged_state` (should not) and `preferred_action`, `preferred_state` (should).
     pub kind: Option<String>,
     pub action: Option<String>,
     pub state: Option<String>,
@@ -75,11 +77,7 @@ pub struct NormDto {
 
 impl From<&Norm> for NormDto {
     fn from(norm: &Norm) -> Self {
-        let term = Some(norm.spec.term.to_string());
-        let (action, state) = match norm.spec.kind {
-            NormKind::ForbiddenAction => (term, None),
-            NormKind::ForbiddenState => (None, term),
-        };
+        let (action, state) = norm.spec.kind.members(norm.spec.term.to_string());
         NormDto {
             id: norm.id,
             revision: norm.revision,

@@ -10,7 +10,7 @@ use utoipa::{PartialSchema, ToSchema};
 
 use crate::engine::decision::Style;
 use crate::engine::input::Spelled;
-use crate::engine::request::{SinglePermissible, Strategy};
+use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 
 /// A string that is one of the enum's words.
 fn words<T: Spelled>() -> RefOr<Schema> {
@@ -39,3 +39,4 @@ macro_rules! spelled_schema {
 spelled_schema!(Strategy, "StrategyBody");
 spelled_schema!(SinglePermissible, "SinglePermissibleBody");
 spelled_schema!(Style, "StyleBody");
+spelled_schema!(SoftNorms, "SoftNormsBody");

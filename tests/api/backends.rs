@@ -122,7 +122,7 @@ fn spec(kind: &str, term: &str) -> NormSpec {
         kind: Some(kind.into()),
         ..NormInput::default()
     };
-    if kind == "forbidden_action" {
+    if kind.ends_with("_action") {
         input.action = Some(term.into());
     } else {
         input.state = Some(term.into());
@@ -181,6 +181,32 @@ on_both_backends!(
         assert!(third.id > second.id);
     }
 );
+
+on_both_backends!(every_norm_kind_is_stored_and_read_back_as_it_was, |store: Arc<
+    dyn NormStore,
+>| async move {
+    let kinds = [
+        ("forbidden_action", "destroy"),
+        ("forbidden_state", "holding(self,X)"),
+        ("discouraged_action", "get(X)"),
+        ("discouraged_state", "holding(self,X)"),
+        ("preferred_action", "get(X)"),
+        ("preferred_state", "on(X,tray1)"),
+    ];
+    let mut stored = Vec::new();
+    for (kind, term) in kinds {
+        let norm = NormSpec {
+            severity: 2,
+            when: vec![scruple::engine::term::Term::parse("dirty(X)").unwrap()],
+            ..spec(kind, term)
+        };
+        let created = store.create(&norm, "alice").await.unwrap();
+        assert_eq!(created.spec, norm, "{kind}");
+        stored.push(created);
+    }
+    let (_, all) = store.load().await.unwrap();
+    assert_eq!(all, stored, "each kind is read back as written");
+});
 
 on_both_backends!(
     an_import_replaces_the_set_keeping_ids_and_numbering_fresh_ones_above,

@@ -12,7 +12,7 @@ use tonic::transport::Channel;
 
 use crate::helpers::{Options, TestApp, assert_problem, get_vase, lab_scene, paper_demo, spawn_app, spawn_with};
 
-async fn channel(app: &TestApp) -> Channel {
+pub(crate) async fn channel(app: &TestApp) -> Channel {
     Channel::from_shared(app.base.clone())
         .unwrap()
         .connect()
@@ -148,6 +148,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             max_readings: o["max_readings"].as_u64(),
             deadline_ms: o["deadline_ms"].as_u64(),
             confirm_above_ratio: o["confirm_above_ratio"].as_f64(),
+            soft_norms: opt(&o["soft_norms"]),
         }),
         speaker_roles: strings(&body["speaker_roles"]),
         answer: body.get("answer").map(|a| pb::Answer {
@@ -166,7 +167,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
 }
 
 /// A gRPC answer in the REST answer's JSON shape, to compare the two field for field.
-fn as_rest_json(r: pb::ClarifyResponse) -> Value {
+pub(crate) fn as_rest_json(r: pb::ClarifyResponse) -> Value {
     let interpretations: Vec<Value> = r
         .interpretations
         .into_iter()
@@ -186,8 +187,12 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
                     v
                 })
                 .collect();
-            json!({"action": i.action, "description": i.description, "permissible": i.permissible,
-                   "feasible": i.feasible, "reasons": reasons, "plan": i.plan, "score": i.score})
+            let mut v = json!({"action": i.action, "description": i.description, "permissible": i.permissible,
+                               "feasible": i.feasible, "reasons": reasons, "plan": i.plan, "score": i.score});
+            if i.norm_score != 0 {
+                v["norm_score"] = json!(i.norm_score);
+            }
+            v
         })
         .collect();
     let mut v = json!({"decision": r.decision, "utterance": r.utterance, "speech_act": r.speech_act,
@@ -214,7 +219,7 @@ fn as_rest_json(r: pb::ClarifyResponse) -> Value {
     v
 }
 
-fn norm_request(norm: &Value) -> pb::CreateNormRequest {
+pub(crate) fn norm_request(norm: &Value) -> pb::CreateNormRequest {
     pb::CreateNormRequest {
         kind: opt(&norm["kind"]),
         action: opt(&norm["action"]),

@@ -21,6 +21,7 @@ mod openapi;
 mod paper_demo;
 mod playground;
 mod replicas;
+mod soft;
 #[path = "../support/mod.rs"]
 mod support;
 mod tls;

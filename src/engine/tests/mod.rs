@@ -27,6 +27,7 @@ mod paper;
 mod plans;
 mod runner;
 mod safety;
+mod soft;
 mod verbs;
 mod words;
 

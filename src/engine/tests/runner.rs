@@ -87,6 +87,10 @@ pub(super) fn is_forbidden(kind: &str) -> bool {
     kind.starts_with("forbidden_")
 }
 
+pub(super) fn is_soft(kind: &str) -> bool {
+    kind.starts_with("discouraged_") || kind.starts_with("preferred_")
+}
+
 /// Every difference between the decision and the expectation, each naming the case.
 pub(super) fn mismatches(name: &str, d: &Decision, e: &Expect) -> Vec<String> {
     let mut out = Vec::new();
@@ -143,7 +147,7 @@ pub(super) fn mismatches(name: &str, d: &Decision, e: &Expect) -> Vec<String> {
                 format!("{:?}", want.plan),
             );
             let permissible = !want.reasons.iter().any(|(k, _, _)| is_forbidden(k));
-            let feasible = want.reasons.iter().all(|(k, _, _)| is_forbidden(k));
+            let feasible = (want.reasons.iter()).all(|(k, _, _)| is_forbidden(k) || is_soft(k));
             differ(
                 &format!("{at} permissible"),
                 got.permissible().to_string(),

@@ -38,6 +38,61 @@ fn arb_when() -> impl Strategy<Value = Option<&'static str>> {
 }
 
 fn arb_norm() -> impl Strategy<Value = NormInput> {
+    prop_oneof![arb_forbidden(), arb_soft()]
+}
+
+/// A soft norm, usually on a property that tells readings apart, so that scores differ.
+fn arb_soft() -> impl Strategy<Value = NormInput> {
+    let cond = prop_oneof![
+        1 => Just(None),
+        2 => Just(Some("fragile(X)")),
+        2 => Just(Some("color(X,red)")),
+        1 => Just(Some("heavy(X)")),
+    ];
+    (0..4usize, 0..7usize, 1..=5i64, cond, arb_context()).prop_map(|(kind, term, severity, cond, context)| {
+        let kind = [
+            "discouraged_action",
+            "preferred_action",
+            "discouraged_state",
+            "preferred_state",
+        ][kind];
+        let term = if kind.ends_with("_action") {
+            [
+                "get(X)",
+                "destroy(X)",
+                "steal(X)",
+                "put(X,Y)",
+                "pointTo(X)",
+                "get",
+                "put(Y,X)",
+            ][term]
+        } else {
+            [
+                "holding(self,X)",
+                "destroyed(X)",
+                "on(X,Y)",
+                "holding(self,X)",
+                "destroyed(X)",
+                "on(Y,X)",
+                "did(self,get(X))",
+            ][term]
+        };
+        let (action, state) = match kind.ends_with("_action") {
+            true => (Some(term.to_owned()), None),
+            false => (None, Some(term.to_owned())),
+        };
+        let norm = NormInput {
+            kind: Some(kind.to_owned()),
+            action,
+            state,
+            severity: Some(severity),
+            ..NormInput::default()
+        };
+        finish(norm, cond, context)
+    })
+}
+
+fn arb_forbidden() -> impl Strategy<Value = NormInput> {
     let action =
         (0..5usize, any::<bool>(), arb_when(), arb_context()).prop_map(|(verb, with_variable, cond, context)| {
             let name = ["get", "destroy", "steal", "put", "pointTo"][verb];
@@ -103,16 +158,23 @@ fn random_scene(objects: &[ObjGen], type_count: usize, on_table: &[bool]) -> Sce
     scene(objects, &facts)
 }
 
-/// Algorithm 1 by counts, and the words it must (and must not) say.
+/// Algorithm 1 by counts, and the words it must (and must not) say. `good` are the acceptable
+/// readings with the highest norm score: the only ones it may offer or act on.
 fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCaseError> {
     let all = &d.interpretations;
-    let good: Vec<_> = all.iter().filter(|i| i.permissible() && i.feasible()).collect();
-    let bad: Vec<_> = all.iter().filter(|i| !(i.permissible() && i.feasible())).collect();
+    let acceptable: Vec<_> = all.iter().filter(|i| i.permissible() && i.feasible()).collect();
+    let best = acceptable.iter().map(|i| i.norm_score()).max();
+    let good: Vec<_> = acceptable
+        .iter()
+        .copied()
+        .filter(|i| Some(i.norm_score()) == best)
+        .collect();
     for i in all {
         let forbidden = i.outcome.reasons.iter().any(|r| r.kind().starts_with("forbidden_"));
-        let other = i.outcome.reasons.iter().any(|r| !r.kind().starts_with("forbidden_"));
+        let other = (i.outcome.reasons.iter()).any(|r| !r.kind().starts_with("forbidden_") && !is_soft(r.kind()));
         prop_assert_eq!(i.permissible(), !forbidden, "permissible of {}", i.action);
         prop_assert_eq!(i.feasible(), !other, "feasible of {}", i.action);
+        let mut score = 0;
         for (n, r) in i.outcome.reasons.iter().enumerate() {
             prop_assert!(
                 !i.outcome.reasons[..n].contains(r),
@@ -122,11 +184,27 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             );
             prop_assert_eq!(
                 r.norm_id.is_some(),
-                r.kind().starts_with("forbidden_"),
+                r.kind().starts_with("forbidden_") || is_soft(r.kind()),
                 "norm id of {:?}",
                 r
             );
+            if is_soft(r.kind()) {
+                // Each soft norm counts once per reading.
+                prop_assert!(
+                    !i.outcome.reasons[..n].iter().any(|o| o.norm_id == r.norm_id),
+                    "{}: soft norm {:?} counted twice",
+                    i.action,
+                    r.norm_id
+                );
+                let severity = i32::from(r.severity.expect("a soft reason has a severity"));
+                score += if r.kind().starts_with("preferred_") {
+                    severity
+                } else {
+                    -severity
+                };
+            }
         }
+        prop_assert_eq!(i.norm_score(), score, "norm score of {}", i.action);
     }
     let expected = match (all.len(), good.len()) {
         (0, _) => Unresolved,
@@ -152,6 +230,9 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
         _ => prop_assert!(d.goal.is_none(), "{} with goal {:?}", d.kind.as_str(), d.goal),
     }
     match d.kind {
+        Comply if all[0].outcome.discouraged().next().is_some() => {
+            prop_assert!(d.utterance.starts_with("Okay, although "), "{}", d.utterance);
+        }
         Comply => prop_assert_eq!(d.utterance.as_str(), "Okay."),
         Refuse => {
             let prefix = format!("I cannot {} because ", all[0].reading);
@@ -209,9 +290,14 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
                 _ => format!("Do you want me to {}?", good[0].reading),
             };
             prop_assert!(d.utterance.starts_with(&first), "{}", d.utterance);
+            // Every other reading, in order: dispreferred ones would rather not be done, the
+            // others cannot.
             let mut at = first.len();
-            for other in &bad {
-                let sentence = format!(" I cannot {} because ", other.reading);
+            for other in all.iter().filter(|i| i.action != good[0].action) {
+                let sentence = match other.permissible() && other.feasible() {
+                    true => format!(" I would rather not {} because ", other.reading),
+                    false => format!(" I cannot {} because ", other.reading),
+                };
                 prop_assert!(
                     d.utterance[at..].starts_with(&sentence),
                     "{} at {}: {}",
@@ -315,6 +401,28 @@ fn arb_case() -> impl Strategy<Value = RandomCase> {
         )
 }
 
+/// Cases where soft norms have something to choose: several objects of one type, soft norms on
+/// properties that tell them apart, and now and then a forbidden norm beside them.
+fn arb_soft_case() -> impl Strategy<Value = RandomCase> {
+    (
+        prop::collection::vec(arb_object(), 1..=6),
+        prop::collection::vec(arb_soft(), 1..=4),
+        prop::collection::vec(arb_forbidden(), 0..=1),
+        prop::sample::select(vec!["get", "pointTo", "put", "destroy"]),
+        prop_oneof![Just(SinglePermissible::Assume), Just(SinglePermissible::Confirm)],
+    )
+        .prop_map(|(objects, soft, forbidden, verb, single)| RandomCase {
+            objects,
+            type_count: 1,
+            on_table: vec![true, false, true, false, true, false],
+            norms: soft.into_iter().chain(forbidden).collect(),
+            verb,
+            references: (0, 0),
+            context: "default",
+            single,
+        })
+}
+
 /// 1,000 cases on every `cargo test`; the long run sets `SCRUPLE_PROPTEST_CASES` (e.g. 10000,
 /// see README "Hostile input").
 fn safety_cases() -> u32 {
@@ -342,6 +450,18 @@ proptest! {
 }
 
 proptest! {
+    #![proptest_config(ProptestConfig::with_cases(safety_cases()))]
+
+    /// With soft norms choosing: nothing forbidden or infeasible is offered or acted on, and a
+    /// dispreferred reading is never offered while a better-scored acceptable one exists.
+    #[test]
+    fn soft_norms_never_let_a_bad_or_dispreferred_reading_through(case in arb_soft_case()) {
+        let d = run(&case.request(), &case.scene(), &norms(&case.norms));
+        check_invariant(&d, case.single)?;
+    }
+}
+
+proptest! {
     #![proptest_config(ProptestConfig::with_cases(safety_cases() / 4))]
 
     /// The deadline may fall anywhere, even inside a reading's plan: whatever was cut short is
@@ -365,8 +485,13 @@ proptest! {
             prop_assert!(matches!(d.kind, Ask | Refuse), "{:?}: {}", d.kind, d.utterance);
         }
         let offered: Vec<_> = d.interpretations.iter().filter(|i| d.offered.contains(&i.action)).collect();
+        let best = (d.interpretations.iter())
+            .filter(|i| i.permissible() && i.feasible())
+            .map(|i| i.norm_score())
+            .max();
         for i in offered {
             prop_assert!(i.permissible() && i.feasible(), "offered {} ({})", i.action, d.utterance);
+            prop_assert_eq!(Some(i.norm_score()), best, "offered {}, dispreferred ({})", &i.action, &d.utterance);
         }
         for words in d.interpretations.iter().flat_map(|i| &i.reason_words) {
             prop_assert!(!words.trim().is_empty(), "a reason with no words: {}", d.utterance);
@@ -374,8 +499,8 @@ proptest! {
     }
 }
 
-/// The property above is only as strong as its inputs: they must reach every decision, and every
-/// reason kind the default library can produce.
+/// The properties above are only as strong as their inputs: they must reach every decision,
+/// every reason kind the default library can produce, and both of soft norms' sentences.
 #[test]
 fn random_cases_reach_every_decision_and_reason_kind() {
     use proptest::strategy::ValueTree;
@@ -386,10 +511,21 @@ fn random_cases_reach_every_decision_and_reason_kind() {
     let strategy = arb_case();
     let mut decisions: BTreeMap<&str, usize> = BTreeMap::new();
     let mut reasons: BTreeMap<&str, usize> = BTreeMap::new();
-    for _ in 0..1000 {
-        let case = strategy.new_tree(&mut runner).expect("a case").current();
+    // Half the cases from each generator; the soft one is built to give soft norms a choice.
+    let (mut rather_not, mut although, mut dispreferred) = (0, 0, 0);
+    let soft = arb_soft_case();
+    for n in 0..2000 {
+        let case = match n % 2 {
+            0 => strategy.new_tree(&mut runner).expect("a case").current(),
+            _ => soft.new_tree(&mut runner).expect("a case").current(),
+        };
         let d = run(&case.request(), &case.scene(), &norms(&case.norms));
         *decisions.entry(d.kind.as_str()).or_default() += 1;
+        rather_not += usize::from(d.utterance.contains(" I would rather not "));
+        let acceptable = || d.interpretations.iter().filter(|i| i.acceptable());
+        let best = acceptable().map(|i| i.norm_score()).max();
+        dispreferred += usize::from(acceptable().any(|i| Some(i.norm_score()) < best));
+        although += usize::from(d.utterance.starts_with("Okay, although "));
         for i in &d.interpretations {
             for r in &i.outcome.reasons {
                 *reasons.entry(r.kind()).or_default() += 1;
@@ -399,9 +535,23 @@ fn random_cases_reach_every_decision_and_reason_kind() {
     for kind in ["comply", "refuse", "ask", "assume", "confirm", "explain", "unresolved"] {
         assert!(decisions.get(kind).is_some_and(|&n| n >= 10), "{kind}: {decisions:?}");
     }
-    for kind in ["forbidden_action", "forbidden_state", "unknown_action", "unreachable"] {
+    for kind in [
+        "forbidden_action",
+        "forbidden_state",
+        "unknown_action",
+        "unreachable",
+        "discouraged_action",
+        "discouraged_state",
+        "preferred_action",
+        "preferred_state",
+    ] {
         assert!(reasons.get(kind).is_some_and(|&n| n >= 10), "{kind}: {reasons:?}");
     }
+    // Soft norms choose among readings and are spoken: both of their sentences are reached.
+    assert!(
+        rather_not >= 10 && although >= 10 && dispreferred >= 10,
+        "rather not {rather_not}, although {although}, dispreferred {dispreferred}"
+    );
 }
 
 /// Enough readings to run on rayon's pool: one thread or four, the same decision, byte for byte.

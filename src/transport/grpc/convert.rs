@@ -9,7 +9,7 @@ use super::pb;
 use crate::engine::action::{ActionInput, MethodInput};
 use crate::engine::decision::Style;
 use crate::engine::input::Spelled;
-use crate::engine::request::{SinglePermissible, Strategy};
+use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
@@ -55,6 +55,7 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                     max_readings: o.max_readings,
                     deadline_ms: o.deadline_ms,
                     confirm_above_ratio: o.confirm_above_ratio,
+                    soft_norms: word::<SoftNorms>("/options/soft_norms", o.soft_norms)?,
                 })
             })
             .transpose()?;
@@ -225,6 +226,7 @@ impl From<InterpretationDto> for pb::Interpretation {
             reasons: i.reasons.into_iter().map(Into::into).collect(),
             plan: i.plan,
             score: i.score,
+            norm_score: i.norm_score,
         }
     }
 }
