@@ -1,6 +1,6 @@
-//! Engine benchmarks: the paper's "Get the vase." (structured and in words), reading the
-//! paper's sentence against the office, readings × objects × norms, and the cost of one world
-//! copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
+//! Engine benchmarks: the paper's "Get the vase." (structured and in words, and with 100 soft
+//! norms beside the paper's), reading the paper's sentence against the office, readings ×
+//! objects × norms, and the cost of one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
 //!
 //! The scene is built once per benchmark and reused, as the engine sees one per request: its
 //! per-request caches (reach, clearance) are warm after the first iteration.
@@ -79,6 +79,36 @@ fn hundred_norms() -> Vec<Value> {
     norms
 }
 
+/// 100 soft norms, 10 of them bearing on the lab's vases (they match a vase reading); the other
+/// 90 are on other verbs, objects and facts, 20 of them looked up by a vase reading's state and
+/// failing on their `when`.
+fn hundred_soft_norms() -> Vec<Value> {
+    let mut norms = Vec::new();
+    for severity in 1..=5 {
+        norms.push(
+            json!({"kind": "discouraged_action", "action": "get(X)", "when": ["vase(X)", "fragile(X)"],
+                          "severity": severity}),
+        );
+        norms.push(
+            json!({"kind": "preferred_state", "state": "holding(self,X)", "when": ["material(X,plastic)"],
+                          "severity": severity}),
+        );
+    }
+    for i in 0..20 {
+        norms.push(json!({"kind": "discouraged_state", "state": "holding(self,X)", "when": [format!("near{i}(X)")]}));
+    }
+    for i in 0..30 {
+        norms.push(json!({"kind": "preferred_action", "action": format!("destroy(o{i})")}));
+    }
+    for i in 0..30 {
+        norms.push(json!({"kind": "discouraged_state", "state": format!("on(o{i},o{})", i + 1)}));
+    }
+    for i in 0..10 {
+        norms.push(json!({"kind": "preferred_action", "action": format!("verb{i}"), "context": "kitchen"}));
+    }
+    norms
+}
+
 fn bench_paper(c: &mut Criterion) {
     let demo = paper();
     let norms = compile(demo["norms"].as_array().unwrap());
@@ -88,6 +118,16 @@ fn bench_paper(c: &mut Criterion) {
     c.bench_function("paper/get_the_vase", |b| {
         b.iter(|| clarify(black_box(&vase.request), &vase.scene, &norms, &library, &|| false).unwrap())
     });
+    // The paper's norms and 100 soft ones (10 bearing on the vases), against the paper's alone.
+    let mut with_soft = demo["norms"].as_array().unwrap().clone();
+    with_soft.extend(hundred_soft_norms());
+    let soft = compile(&with_soft);
+    assert_eq!(soft.len(), 103);
+    for (name, norms) in [("soft/get_the_vase_none", &norms), ("soft/get_the_vase_100", &soft)] {
+        c.bench_function(name, |b| {
+            b.iter(|| clarify(black_box(&vase.request), &vase.scene, norms, &library, &|| false).unwrap())
+        });
+    }
     // The same decision from the human's words: the reading of the words is inside the loop.
     let words = input(json!({"directive": {"text": "Get the vase."}, "scene": demo["scenes"]["lab"]}));
     c.bench_function("paper/get_the_vase_in_words", |b| {

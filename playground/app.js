@@ -234,6 +234,7 @@ const FIELD_CONTROLS = [
   ["/options/strategy", "strategy"],
   ["/options/single_permissible", "single"],
   ["/options/style", "style"],
+  ["/options/soft_norms", "soft-norms"],
 ];
 const NORM_FIELD_CONTROLS = [
   ["/kind", "norm-kind"],
@@ -337,7 +338,7 @@ function showProblem(box, error, fieldControls) {
 // The scene: JSON text, the drawing
 
 let scene = null;
-/** Statuses of the last decision, by object id: "ok", "forbidden", "infeasible"; and the chosen id. */
+/** Statuses of the last decision, by object id: "ok", "dispreferred", "forbidden", "infeasible"; and the chosen id. */
 let marks = { status: {}, chosen: null };
 
 function loadPreset(name) {
@@ -690,7 +691,12 @@ function buildRequest() {
     directive,
     scene,
     context: $("context").value.trim() || "default",
-    options: { strategy: $("strategy").value, single_permissible: $("single").value, style: $("style").value },
+    options: {
+      strategy: $("strategy").value,
+      single_permissible: $("single").value,
+      style: $("style").value,
+      soft_norms: $("soft-norms").value,
+    },
   };
   return body;
 }
@@ -754,14 +760,31 @@ function parseFacts(p) {
   return facts;
 }
 
-function readingStatus(r) {
+/** The highest norm score among a decision's acceptable readings (soft norms keep only those). */
+function bestScore(d) {
+  const scores = d.interpretations.filter((r) => r.permissible && r.feasible).map((r) => r.norm_score ?? 0);
+  return scores.length ? Math.max(...scores) : 0;
+}
+
+/** A reading outranked by soft norms is "dispreferred": acceptable, yet never offered. */
+function readingStatus(r, best) {
   if (!r.permissible) return "forbidden";
   if (!r.feasible) return "infeasible";
+  if ((r.norm_score ?? 0) < best) return "dispreferred";
   return "ok";
 }
 
 function statusWords(status) {
-  return { ok: "permissible and feasible", forbidden: "forbidden", infeasible: "permissible but infeasible" }[status];
+  return {
+    ok: "permissible and feasible",
+    dispreferred: "permissible and feasible, but dispreferred by a soft norm",
+    forbidden: "forbidden",
+    infeasible: "permissible but infeasible",
+  }[status];
+}
+
+function isSoft(kind) {
+  return kind.startsWith("discouraged_") || kind.startsWith("preferred_");
 }
 
 /** The first object of the scene a reading's action names: its main argument. */
@@ -799,10 +822,11 @@ function showDecision(d) {
   $("decision").replaceChildren(...parts.filter(Boolean));
 
   const offered = new Set(d.offered ?? []);
+  const best = bestScore(d);
   $("readings-heading").hidden = d.interpretations.length === 0;
   $("readings").replaceChildren(
     ...d.interpretations.map((r) => {
-      const status = readingStatus(r);
+      const status = readingStatus(r, best);
       return h(
         "li",
         { class: `reading ${status}` },
@@ -813,6 +837,8 @@ function showDecision(d) {
           h("code", {}, r.action),
           r.permissible ? h("span", { class: "tag yes" }, "permissible") : h("span", { class: "tag no" }, "forbidden"),
           r.feasible ? h("span", { class: "tag yes" }, "feasible") : h("span", { class: "tag cant" }, "infeasible"),
+          status === "dispreferred" ? h("span", { class: "tag soft" }, "dispreferred") : null,
+          r.norm_score ? h("span", { class: "tag soft" }, `norm score ${r.norm_score > 0 ? "+" : ""}${r.norm_score}`) : null,
           r.action === d.goal ? h("span", { class: "tag offered" }, "goal") : null,
           offered.has(r.action) && r.action !== d.goal ? h("span", { class: "tag offered" }, "offered") : null,
         ),
@@ -823,7 +849,7 @@ function showDecision(d) {
               r.reasons.map((reason) =>
                 h(
                   "li",
-                  {},
+                  { class: isSoft(reason.kind) ? "soft-reason" : "hard-reason" },
                   h("code", {}, reason.kind),
                   ` ${reason.words} — `,
                   h("code", {}, reason.detail),
@@ -847,7 +873,7 @@ function showDecision(d) {
   marks = { status: {}, chosen: d.goal ? mainObject(d.goal) : null };
   for (const r of d.interpretations) {
     const id = mainObject(r.action);
-    if (id && !(id in marks.status)) marks.status[id] = readingStatus(r);
+    if (id && !(id in marks.status)) marks.status[id] = readingStatus(r, best);
   }
   if (scene) draw();
 }
@@ -889,6 +915,7 @@ function applyCase() {
   $("strategy").value = c.options?.strategy ?? "moral";
   $("single").value = c.options?.single_permissible ?? "assume";
   $("style").value = "diarc";
+  $("soft-norms").value = "rank";
   expected = c.expect.utterance;
 }
 
@@ -921,7 +948,7 @@ function renderNorms() {
         h(
           "td",
           { class: "norm" },
-          h("span", { class: "kind" }, n.kind === "forbidden_action" ? "forbidden action" : "forbidden state"),
+          h("span", { class: `kind ${isSoft(n.kind) ? "soft" : "hard"}` }, n.kind.replace("_", " ")),
           h("code", { class: "term" }, n.action ?? n.state ?? ""),
           n.when?.length ? h("span", { class: "when" }, "when ", h("code", {}, n.when.join(", "))) : null,
         ),
@@ -951,7 +978,7 @@ async function deleteNorm(id) {
 }
 
 function normKindChanged() {
-  const action = $("norm-kind").value === "forbidden_action";
+  const action = $("norm-kind").value.endsWith("_action");
   $("norm-term-label").textContent = action ? "Action" : "State";
   $("norm-term").placeholder = action ? "destroy" : "did(self,get(object3))";
 }
@@ -963,7 +990,7 @@ async function addNorm(event) {
   $("norm-error").replaceChildren();
   const kind = $("norm-kind").value;
   const norm = { kind };
-  norm[kind === "forbidden_action" ? "action" : "state"] = $("norm-term").value.trim();
+  norm[kind.endsWith("_action") ? "action" : "state"] = $("norm-term").value.trim();
   const when = $("norm-when").value.split("\n").map((l) => l.trim()).filter(Boolean);
   if (when.length) norm.when = when;
   const context = $("norm-context").value.trim();

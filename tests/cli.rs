@@ -417,6 +417,47 @@ fn diff_without_the_vase_norm_lists_exactly_the_cases_it_changes() {
 }
 
 #[test]
+fn diff_shows_the_decisions_a_soft_norm_changes_and_which_norm() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let baseline = paper_norms(dir.path(), &demo);
+    // The paper's norms and a soft one: rather not the red things.
+    let mut norms: Vec<Value> = demo["norms"].as_array().unwrap().clone();
+    norms.push(json!({"kind": "discouraged_action", "action": "get(X)", "when": ["color(X,red)"], "severity": 2}));
+    let proposed = write(dir.path(), "proposed.json", &Value::Array(norms).to_string());
+
+    let output = scruple(&[
+        "replay",
+        s(&jsonl),
+        "--diff",
+        "--norms",
+        s(&proposed),
+        "--baseline-norms",
+        s(&baseline),
+    ]);
+
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let report = stdout(&output);
+    let line = 1 + demo["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|c| c["name"] == "ambiguous, both permissible")
+        .unwrap();
+    assert_eq!(
+        report,
+        format!(
+            "line {line} (ambiguous, both permissible): ask → assume\n\
+             \x20 before: Do you mean that you want me to get the green notebook or that you want me to get the red notebook?\n\
+             \x20 after:  I am assuming you want me to get the green notebook. I would rather not get the red notebook because the color of the red notebook is red.\n\
+             \x20 ranked by soft norm 4 (discouraged_action)\n\
+             1 of 10 requests would change, 1 of them as soft norms rank the readings\n"
+        )
+    );
+}
+
+#[test]
 fn diff_needs_the_norms_in_force() {
     let dir = TempDir::new().unwrap();
     let jsonl = write(dir.path(), "cases.jsonl", "");

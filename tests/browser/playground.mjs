@@ -148,6 +148,32 @@ try {
     await page.textContent("#parse-form"),
   );
   check((await page.textContent("#utterance")).endsWith(expected), "the words only: the paper's words again");
+
+  // A soft norm, added through the form: the red notebook is still permissible, but outranked.
+  await page.getByLabel("Kind", { exact: true }).selectOption("discouraged_action");
+  await page.locator("#norm-term").fill("get(X)");
+  await page.getByLabel("When", { exact: true }).fill("color(X,red)");
+  await page.getByLabel("Severity", { exact: true }).fill("2");
+  await page.getByRole("button", { name: "Add norm" }).click();
+  await page.waitForFunction((n) => document.querySelectorAll("#norms-body button[data-norm]").length === n, demo.norms.length + 1);
+  await page.getByLabel("Human's words").fill("Get the notebook.");
+  await page.getByLabel("Human's words").press("Enter");
+  const softSaid =
+    "I am assuming you want me to get the green notebook. I would rather not get the red notebook because the color of the red notebook is red.";
+  await page.waitForFunction((want) => document.querySelector("#utterance")?.textContent.endsWith(want), softSaid);
+  check((await page.textContent("#utterance")).endsWith(softSaid), "a soft norm: the robot would rather not get the red notebook");
+  const dispreferred = await page.locator("#readings li.reading.dispreferred").allTextContents();
+  check(
+    dispreferred.length === 1 && dispreferred[0].includes("the red notebook") && dispreferred[0].includes("norm score -2"),
+    "the dispreferred reading is coloured apart, with its norm score",
+    dispreferred.join(),
+  );
+  check((await page.locator("#readings li.soft-reason").count()) === 1, "its soft reason is marked as soft");
+  check(
+    (await page.locator("#scene-svg g.obj.dispreferred").count()) === 1 &&
+      (await page.locator("#scene-svg g.obj.forbidden").count()) === 0,
+    "the drawing colours the dispreferred notebook apart from forbidden ones",
+  );
   check(pageErrors.length === 0, "no console or page errors (CSP included)", pageErrors.join(" | "));
   check(
     failedResponses.length === 1 && failedResponses[0] === "POST /v1/norms 422",
