@@ -79,23 +79,34 @@ fn hundred_norms() -> Vec<Value> {
     norms
 }
 
-/// 100 soft norms, 10 of them bearing on the lab's vases (they match a vase reading); the other
-/// 90 are on other verbs, objects and facts, 20 of them looked up by a vase reading's state and
-/// failing on their `when`.
+/// 100 soft norms, 10 of them bearing on the lab's vases (about getting or holding one, each on a
+/// condition of its own: some hold of the fragile vase, some of the plastic one, some of
+/// neither); the other 90 are on other verbs, objects, facts and contexts.
 fn hundred_soft_norms() -> Vec<Value> {
-    let mut norms = Vec::new();
-    for severity in 1..=5 {
-        norms.push(
-            json!({"kind": "discouraged_action", "action": "get(X)", "when": ["vase(X)", "fragile(X)"],
-                          "severity": severity}),
-        );
-        norms.push(
-            json!({"kind": "preferred_state", "state": "holding(self,X)", "when": ["material(X,plastic)"],
-                          "severity": severity}),
-        );
-    }
+    let on_vases = [
+        ("discouraged_action", "get(X)", vec!["fragile(X)"]),
+        ("discouraged_state", "holding(self,X)", vec!["material(X,glass)"]),
+        ("preferred_action", "get(X)", vec!["material(X,plastic)"]),
+        ("preferred_state", "holding(self,X)", vec!["vase(X)"]),
+        ("discouraged_action", "get(X)", vec!["vase(X)", "heavy(X)"]),
+        ("discouraged_state", "holding(self,X)", vec!["color(X,red)"]),
+        ("preferred_action", "get(X)", vec!["vase(X)", "on(X,shelf1)"]),
+        ("discouraged_action", "get(object3)", vec![]),
+        ("preferred_state", "did(self,get(object4))", vec![]),
+        (
+            "discouraged_state",
+            "holding(self,X)",
+            vec!["fragile(X)", "on(self,ladder1)"],
+        ),
+    ];
+    let mut norms: Vec<Value> = (on_vases.iter().enumerate())
+        .map(|(i, (kind, term, when))| {
+            let member = if kind.ends_with("_action") { "action" } else { "state" };
+            json!({"kind": kind, member: term, "when": when, "severity": 1 + i % 5})
+        })
+        .collect();
     for i in 0..20 {
-        norms.push(json!({"kind": "discouraged_state", "state": "holding(self,X)", "when": [format!("near{i}(X)")]}));
+        norms.push(json!({"kind": "discouraged_state", "state": "on(X,Y)", "when": [format!("near{i}(X)")]}));
     }
     for i in 0..30 {
         norms.push(json!({"kind": "preferred_action", "action": format!("destroy(o{i})")}));
@@ -123,6 +134,17 @@ fn bench_paper(c: &mut Criterion) {
     with_soft.extend(hundred_soft_norms());
     let soft = compile(&with_soft);
     assert_eq!(soft.len(), 103);
+    // The same 100 installed, with `soft_norms: ignore`: what merely having them costs.
+    let ignoring = input(json!({"directive": {"action": "get", "arguments": [{"type": "vase"}]},
+                                "scene": demo["scenes"]["lab"], "options": {"soft_norms": "ignore"}}));
+    c.bench_function("soft/get_the_vase_100_ignored", |b| {
+        b.iter(|| {
+            clarify(black_box(&ignoring.request), &ignoring.scene, &soft, &library, &|| {
+                false
+            })
+            .unwrap()
+        })
+    });
     for (name, norms) in [("soft/get_the_vase_none", &norms), ("soft/get_the_vase_100", &soft)] {
         c.bench_function(name, |b| {
             b.iter(|| clarify(black_box(&vase.request), &vase.scene, norms, &library, &|| false).unwrap())

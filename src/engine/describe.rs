@@ -4,7 +4,7 @@
 //! Owns: which features describe an object, their order, and how actions are spoken.
 //! Must not: depend on hash order; the same scene always yields the same words.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use super::action::Library;
 use super::scene::{Object, Scene, spoken};
@@ -67,7 +67,9 @@ pub fn describe_object(scene: &Scene, object: &Object) -> String {
 pub struct Describer<'a> {
     scene: &'a Scene,
     library: &'a Library,
-    cache: HashMap<String, String>,
+    cache: FxHashMap<String, String>,
+    /// Facts already put in words (a soft reason's `when` facts), each said once per request.
+    facts: FxHashMap<Term, Option<String>>,
 }
 
 impl<'a> Describer<'a> {
@@ -75,7 +77,8 @@ impl<'a> Describer<'a> {
         Describer {
             scene,
             library,
-            cache: HashMap::new(),
+            cache: FxHashMap::default(),
+            facts: FxHashMap::default(),
         }
     }
 
@@ -98,6 +101,16 @@ impl<'a> Describer<'a> {
     /// Whether the scene object has an attribute of this key (`color`).
     pub fn has_attribute(&self, id: &str, key: &str) -> bool {
         self.scene.object(id).is_some_and(|o| o.attributes.contains_key(key))
+    }
+
+    /// The words of a fact, once per request: `words` runs the first time only.
+    pub fn fact(&mut self, fact: &Term, words: impl FnOnce(&mut Self) -> Option<String>) -> Option<String> {
+        if let Some(said) = self.facts.get(fact) {
+            return said.clone();
+        }
+        let said = words(self);
+        self.facts.insert(fact.clone(), said.clone());
+        said
     }
 
     /// The type of a scene object, spoken ("cash box").

@@ -4,6 +4,8 @@
 //! by fact functor, and the two checks (an action about to be done; the facts a step made true).
 //! Must not: read the database or know which transport asked.
 
+use std::sync::Arc;
+
 use rustc_hash::FxHashMap;
 
 use super::input::{Invalid, Spelled};
@@ -321,6 +323,12 @@ struct Rule {
     /// For a state rule: the state followed by its `when` conditions; any of them may be the
     /// literal a newly made-true fact matched.
     literals: Vec<Term>,
+    /// For a state rule, by position: the literals but that one. A new fact that matched the
+    /// literal at a position holds already; only the others are left to solve.
+    others: Vec<Vec<Term>>,
+    /// The note and the `when` facts, shared by every reason the norm gives.
+    note: Option<Arc<str>>,
+    when: Arc<[Term]>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -340,12 +348,14 @@ pub struct CompiledNorms {
     states_by_fact: FxHashMap<Term, Vec<(usize, usize)>>,
 }
 
-/// What a soft norm that counted was about: its `when` facts as they held (instantiated), and
-/// its note, for the words of the reason.
+/// What a soft norm that counted was about, for the words of the reason: its `when` facts and
+/// the bindings under which they held (instantiated only for those that are spoken), and its
+/// note.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SoftMatch {
-    pub when: Vec<Term>,
-    pub note: Option<String>,
+    pub when: Arc<[Term]>,
+    pub solution: Subst,
+    pub note: Option<Arc<str>>,
 }
 
 /// An action norm met: which norm, and the name it is about (spoken in refusals).
@@ -377,8 +387,9 @@ impl Rule {
     fn soft_match(&self, solution: &Subst) -> Option<SoftMatch> {
         let spec = &self.norm.spec;
         spec.kind.is_soft().then(|| SoftMatch {
-            when: spec.when.iter().map(|w| w.substitute(solution)).collect(),
-            note: spec.note.clone(),
+            when: self.when.clone(),
+            solution: solution.clone(),
+            note: self.note.clone(),
         })
     }
 }
@@ -391,8 +402,11 @@ impl CompiledNorms {
             version,
             ..CompiledNorms::default()
         };
-        for norm in norms {
+        for mut norm in norms {
             let index = compiled.rules.len();
+            let mut names = Vec::new();
+            norm.spec.term = norm.spec.term.sharing_names(&mut names);
+            norm.spec.when = norm.spec.when.iter().map(|w| w.sharing_names(&mut names)).collect();
             let mut literals = vec![norm.spec.term.clone()];
             literals.extend(norm.spec.when.iter().cloned());
             if norm.spec.kind.on_action() {
@@ -416,7 +430,21 @@ impl CompiledNorms {
                     }
                 }
             }
-            compiled.rules.push(Rule { norm, literals });
+            let others = match norm.spec.kind.on_action() {
+                true => Vec::new(),
+                false => (0..literals.len())
+                    .map(|p| [&literals[..p], &literals[p + 1..]].concat())
+                    .collect(),
+            };
+            let note = norm.spec.note.as_deref().map(Arc::from);
+            let when = Arc::from(norm.spec.when.as_slice());
+            compiled.rules.push(Rule {
+                norm,
+                literals,
+                others,
+                note,
+                when,
+            });
         }
         compiled
     }
@@ -449,7 +477,7 @@ impl CompiledNorms {
             let mut subst = Subst::new();
             let matched = match pattern {
                 Term::Const(_) => true,
-                _ => subst.unify(pattern, action),
+                _ => subst.unify_ground(pattern, action),
             };
             if !matched {
                 continue;
@@ -491,20 +519,30 @@ impl CompiledNorms {
             let Some(name) = fact.name() else { continue };
             let by_key = self.states_by_key.get(&(name.clone(), fact.arity()));
             let by_fact = self.states_by_fact.get(fact);
-            let mut hits: Vec<(usize, usize)> = by_key.into_iter().chain(by_fact).flatten().copied().collect();
-            // Norm-id order, whichever index found them.
-            hits.sort_unstable();
-            for (index, position) in hits {
+            // Norm-id order, whichever index found them: each list is in that order already, so
+            // only hits from both are merged (and copied).
+            let merged: Vec<(usize, usize)>;
+            let hits: &[(usize, usize)] = match (by_key, by_fact) {
+                (None, None) => continue,
+                (Some(one), None) | (None, Some(one)) => one,
+                (Some(a), Some(b)) => {
+                    let mut both: Vec<(usize, usize)> = a.iter().chain(b).copied().collect();
+                    both.sort_unstable();
+                    merged = both;
+                    &merged
+                }
+            };
+            for &(index, position) in hits {
                 let rule = &self.rules[index];
                 if !rule.norm.applies_in(scope) {
                     continue;
                 }
                 let mut seed = Subst::new();
-                if !seed.unify(&rule.literals[position], fact) {
+                if !seed.unify_ground(&rule.literals[position], fact) {
                     continue;
                 }
                 let soft = rule.norm.spec.kind.is_soft();
-                world.solve(&rule.literals, &seed, &mut |solution| {
+                world.solve(&rule.others[position], &seed, &mut |solution| {
                     let state = rule.norm.spec.term.substitute(solution);
                     // A soft norm counts once per reading: its first state is enough.
                     let seen = |v: &StateViolation| v.norm_id == rule.norm.id && (soft || v.fact == state);

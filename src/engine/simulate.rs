@@ -8,7 +8,7 @@ use super::action::{Library, Method, Step};
 use super::input::Spelled;
 use super::norms::{CompiledNorms, Force, NormKind, Scope, SoftMatch};
 use super::scene::{Scene, grasp_width, room_on};
-use super::term::{Subst, Sym, Term};
+use super::term::{Bound, Subst, Sym, Term};
 use super::world::World;
 
 /// Steps may expand into steps at most this deep; a deeper plan is a reason, not a crash.
@@ -24,7 +24,7 @@ pub enum Cause {
         kind: NormKind,
         what: Term,
         about: Vec<Term>,
-        note: Option<String>,
+        note: Option<std::sync::Arc<str>>,
     },
     /// `step` is done, and a norm forbids actions named `name`.
     ForbiddenAction { step: Term, name: Sym },
@@ -286,12 +286,37 @@ impl Run<'_> {
         }
     }
 
-    /// The soft reason for a norm met by `what`, its `when` facts kept where they name one of
-    /// the reading's objects.
+    /// The soft reason for a norm met by `what`. Its `when` facts are kept (instantiated) where
+    /// they name one of the reading's objects and are not just that object's type: the facts a
+    /// reason's words name.
     fn soft(&self, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
         let objects = self.reading.args();
-        let about = (found.when.into_iter())
-            .filter(|fact| fact.args().iter().any(|a| objects.contains(a)))
+        let scene = self.env.scene;
+        let spoken = |literal: &&Term| {
+            let names_one = |arg: &Term| {
+                objects.contains(
+                    Bound {
+                        term: arg,
+                        subst: &found.solution,
+                    }
+                    .resolved(),
+                )
+            };
+            let its_type = match (literal.name(), literal.args()) {
+                (Some(name), [subject]) => (Bound {
+                    term: subject,
+                    subst: &found.solution,
+                }
+                .resolved()
+                .name())
+                .and_then(|id| scene.object(id))
+                .is_some_and(|o| o.kind == **name),
+                _ => false,
+            };
+            literal.args().iter().any(names_one) && !its_type
+        };
+        let about = (found.when.iter().filter(spoken))
+            .map(|literal| literal.substitute(&found.solution))
             .collect();
         Cause::Soft {
             kind,
@@ -371,7 +396,7 @@ impl Run<'_> {
             }));
         }
         if let [method] = def.methods.as_slice() {
-            self.run_method(action, method, &bindings, depth);
+            self.run_method(action, method, &bindings, depth, true);
             return;
         }
         // Several methods: each is tried from the same world. The first that meets no reason is
@@ -386,7 +411,7 @@ impl Run<'_> {
                 outcome: Outcome::default(),
                 stopped: false,
             };
-            attempt.run_method(action, method, &bindings, depth);
+            attempt.run_method(action, method, &bindings, depth, false);
             if attempt.stopped {
                 self.stop();
                 return;
@@ -412,14 +437,19 @@ impl Run<'_> {
         self.outcome.plan.extend(first.outcome.plan);
     }
 
-    fn run_method(&mut self, action: &Term, method: &Method, bindings: &Subst, depth: usize) {
-        for step in &method.steps {
+    /// Runs one method's steps. `checked_here` is true when `action` was checked against the
+    /// action norms in this very world, into this outcome, just before (its only method).
+    fn run_method(&mut self, action: &Term, method: &Method, bindings: &Subst, depth: usize, checked_here: bool) {
+        for (n, step) in method.steps.iter().enumerate() {
             match step {
                 Step::Do(sub) => self.run(&sub.substitute(bindings), false, depth + 1),
                 Step::Itself => {
                     // The verb's own step, in the world its earlier steps made (a `when` may
-                    // hold only now); the same reason found by check (1) is kept once.
-                    self.check_action(action);
+                    // hold only now); the same reason found by check (1) is kept once. As the
+                    // first step it is in the world just checked: checking again finds nothing new.
+                    if !(checked_here && n == 0) {
+                        self.check_action(action);
+                    }
                     self.execute(action, method, bindings);
                 }
             }

@@ -356,25 +356,29 @@ fn soft_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
     let Cause::Soft { kind, about, note, .. } = &reason.cause else {
         return String::new();
     };
-    let facts: Vec<String> = about.iter().filter_map(|fact| fact_words(fact, describer)).collect();
-    if !facts.is_empty() {
-        return listed(&facts, "and");
+    let mut facts: Vec<String> = (about.iter())
+        .filter_map(|fact| describer.fact(fact, |describer| fact_words(fact, describer)))
+        .collect();
+    match facts.len() {
+        0 => {}
+        1 => return facts.swap_remove(0),
+        _ => return listed(&facts, "and"),
     }
-    match (note, kind.force()) {
-        (Some(note), _) if !note.trim().is_empty() => note.trim().to_owned(),
+    match (note.as_deref().map(str::trim), kind.force()) {
+        (Some(note), _) if !note.is_empty() => note.to_owned(),
         (_, Force::Preferred) => "it is preferred".to_owned(),
         _ => "it is discouraged".to_owned(),
     }
 }
 
 /// A fact about an object, in words: `dirty(mug1)` → "the mug is dirty", `color(mug1,red)` →
-/// "the color of the mug is red", `on(plate1,floor1)` → "the plate is on the floor". An
-/// object's own type says nothing the description does not (`None`).
+/// "the color of the mug is red", `on(plate1,floor1)` → "the plate is on the floor". (An
+/// object's own type is never among them: the simulation leaves it out.)
 fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
-    let name = spoken(fact.name()?);
+    let functor = fact.name()?;
     let subject_id = fact.args().first()?.name()?;
+    let name = spoken(functor);
     Some(match fact.args() {
-        [subject] if describer.kind_of(subject_id).as_deref() == Some(name.as_str()) => return None,
         [subject] => format!("{} is {name}", describer.argument(subject)),
         [subject, value] if describer.has_attribute(subject_id, fact.name()?) => format!(
             "the {name} of {} is {}",

@@ -5,6 +5,7 @@
 
 use std::borrow::Cow;
 use std::fmt;
+use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 /// A symbol: the name of a constant, a variable or a functor. Cheap to clone and to compare.
@@ -45,7 +46,9 @@ impl Default for TermLimits {
 }
 
 /// A logical term. Constants and compounds are ground unless an argument holds a variable.
-#[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+/// Its hash is [`hash_term`]'s, so that a term under a substitution ([`Bound`]) is looked up in
+/// a set of terms without being built.
+#[derive(Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Term {
     /// A constant such as `object3` or `self`.
     Const(Sym),
@@ -128,6 +131,24 @@ impl Term {
             Term::Const(_) => true,
             Term::Var(_) => false,
             Term::Compound(_, args) => args.iter().all(Term::is_ground),
+        }
+    }
+
+    /// The same term, its variables' names shared with those in `names` (and added to it):
+    /// a norm's literals then name `X` with one allocation, which bindings compare by address.
+    pub fn sharing_names(&self, names: &mut Vec<Sym>) -> Term {
+        match self {
+            Term::Var(name) => match names.iter().find(|n| **n == *name) {
+                Some(shared) => Term::Var(shared.clone()),
+                None => {
+                    names.push(name.clone());
+                    self.clone()
+                }
+            },
+            Term::Const(_) => self.clone(),
+            Term::Compound(name, args) => {
+                Term::Compound(name.clone(), args.iter().map(|a| a.sharing_names(names)).collect())
+            }
         }
     }
 
@@ -323,10 +344,94 @@ impl Parser<'_> {
     }
 }
 
-/// Variable bindings. Small by construction (a norm has a handful of variables), so a vector.
+impl Hash for Term {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        hash_term(self, None, state);
+    }
+}
+
+/// The one hashing scheme of terms: a tag per variant, the name, and for a compound its arity
+/// and arguments. Under `subst`, a bound variable hashes as its value does, so a term and
+/// the term `substitute` would build from it hash alike.
+fn hash_term<H: Hasher>(term: &Term, subst: Option<&Subst>, state: &mut H) {
+    let term = match (term, subst) {
+        (Term::Var(_), Some(s)) => s.walk(term),
+        _ => term,
+    };
+    match term {
+        Term::Const(name) => {
+            state.write_u8(0);
+            name.hash(state);
+        }
+        Term::Var(name) => {
+            state.write_u8(1);
+            name.hash(state);
+        }
+        Term::Compound(name, args) => {
+            state.write_u8(2);
+            name.hash(state);
+            state.write_usize(args.len());
+            for arg in args.iter() {
+                hash_term(arg, subst, state);
+            }
+        }
+    }
+}
+
+/// A term under a substitution, as a key: it hashes and compares as `term.substitute(subst)`
+/// would, without building that term (a `when` literal checked against the world, say).
+#[derive(Clone, Copy)]
+pub struct Bound<'a> {
+    pub term: &'a Term,
+    pub subst: &'a Subst,
+}
+
+impl<'a> Bound<'a> {
+    /// The term itself, or for a bound variable its value (followed through variables): enough
+    /// to compare a constant argument.
+    pub fn resolved(&self) -> &'a Term {
+        self.subst.walk(self.term)
+    }
+
+    /// Whether the term has no unbound variable under the substitution.
+    pub fn is_ground(&self) -> bool {
+        fn ground(term: &Term, subst: &Subst) -> bool {
+            match subst.walk(term) {
+                Term::Var(_) => false,
+                Term::Const(_) => true,
+                Term::Compound(_, args) => args.iter().all(|a| ground(a, subst)),
+            }
+        }
+        ground(self.term, self.subst)
+    }
+}
+
+impl Hash for Bound<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        hash_term(self.term, Some(self.subst), state);
+    }
+}
+
+impl indexmap::Equivalent<Term> for Bound<'_> {
+    fn equivalent(&self, key: &Term) -> bool {
+        fn same(term: &Term, subst: &Subst, key: &Term) -> bool {
+            match (subst.walk(term), key) {
+                (Term::Const(a), Term::Const(b)) | (Term::Var(a), Term::Var(b)) => a == b,
+                (Term::Compound(f, xs), Term::Compound(g, ys)) => {
+                    f == g && xs.len() == ys.len() && xs.iter().zip(ys.iter()).all(|(x, y)| same(x, subst, y))
+                }
+                _ => false,
+            }
+        }
+        same(self.term, self.subst, key)
+    }
+}
+
+/// Variable bindings. Small by construction (a norm has a handful of variables), so a vector,
+/// kept inline for the usual few: matching a norm against a step allocates nothing.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Subst {
-    bindings: Vec<(Sym, Term)>,
+    bindings: smallvec::SmallVec<[(Sym, Term); 3]>,
 }
 
 impl Subst {
@@ -335,7 +440,11 @@ impl Subst {
     }
 
     pub fn get(&self, var: &str) -> Option<&Term> {
-        self.bindings.iter().find(|(v, _)| &**v == var).map(|(_, t)| t)
+        // The same name is most often the same allocation (a compiled norm shares its
+        // variables' names), so the address is compared before the text.
+        (self.bindings.iter())
+            .find(|(v, _)| std::ptr::eq(v.as_ptr(), var.as_ptr()) && v.len() == var.len() || &**v == var)
+            .map(|(_, t)| t)
     }
 
     pub fn bind(&mut self, var: Sym, value: Term) {
@@ -343,6 +452,7 @@ impl Subst {
     }
 
     /// Follows variable-to-variable bindings until a non-variable or an unbound variable.
+    #[inline]
     fn walk<'a>(&'a self, mut term: &'a Term) -> &'a Term {
         while let Term::Var(v) = term {
             match self.get(v) {
@@ -387,6 +497,41 @@ impl Subst {
             (Term::Const(x), Term::Const(y)) => x == y,
             (Term::Compound(f, xs), Term::Compound(g, ys)) => {
                 f == g && xs.len() == ys.len() && xs.iter().zip(ys.iter()).all(|(x, y)| self.unify(x, y))
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Subst {
+    /// [`Subst::unify`] for a pattern against a term that is (usually) ground, as a norm's
+    /// literal against a step or a fact: the same result, without the occurs check or the
+    /// copies a general unification needs. A `term` with a variable is left to `unify`.
+    pub fn unify_ground(&mut self, pattern: &Term, term: &Term) -> bool {
+        if term.is_ground() {
+            self.match_ground(pattern, term)
+        } else {
+            self.unify(pattern, term)
+        }
+    }
+
+    /// `unify` where `term` is ground: a variable is bound to it, or compared with its value.
+    fn match_ground(&mut self, pattern: &Term, term: &Term) -> bool {
+        match (pattern, term) {
+            (Term::Var(x), _) => match self.get(x) {
+                Some(bound) if bound.is_ground() => bound == term,
+                Some(bound) => {
+                    let bound = bound.clone();
+                    self.unify(&bound, term)
+                }
+                None => {
+                    self.bind(x.clone(), term.clone());
+                    true
+                }
+            },
+            (Term::Const(a), Term::Const(b)) => a == b,
+            (Term::Compound(f, xs), Term::Compound(g, ys)) => {
+                f == g && xs.len() == ys.len() && xs.iter().zip(ys.iter()).all(|(x, y)| self.match_ground(x, y))
             }
             _ => false,
         }
@@ -481,5 +626,55 @@ mod tests {
         assert!(!is_constant_name("a b"));
         assert!(!is_constant_name(""));
         assert!(!is_constant_name("?x"));
+    }
+
+    /// Terms over `a`, `b`, the given variables, `f/1` and `g/2`, at most three deep.
+    fn arb_term(vars: &'static [&'static str]) -> impl proptest::strategy::Strategy<Value = Term> {
+        use proptest::prelude::*;
+        let leaf = prop_oneof![
+            prop::sample::select(vec!["a", "b"]).prop_map(Term::constant),
+            prop::sample::select(vars.to_vec()).prop_map(|v| Term::Var(Sym::from(v))),
+        ];
+        leaf.prop_recursive(3, 12, 2, |inner| {
+            prop_oneof![
+                inner.clone().prop_map(|x| Term::compound("f", vec![x])),
+                (inner.clone(), inner).prop_map(|(x, y)| Term::compound("g", vec![x, y])),
+            ]
+        })
+    }
+
+    proptest::proptest! {
+        /// A term under a substitution hashes, compares and is ground exactly as the term
+        /// `substitute` builds from it: the world looks up `when` literals through it.
+        #[test]
+        fn a_bound_term_stands_for_the_term_it_would_build(
+            term in arb_term(&["X", "Y", "Z"]),
+            x in proptest::option::of(arb_term(&["Z"])),
+            y in proptest::option::of(arb_term(&["X", "Z"])),
+            other in arb_term(&["Z"]),
+        ) {
+            use std::hash::BuildHasher;
+            let mut subst = Subst::new();
+            if let Some(x) = x {
+                subst.bind(Sym::from("X"), x);
+            }
+            if let Some(y) = y {
+                subst.bind(Sym::from("Y"), y);
+            }
+            let built = term.substitute(&subst);
+            let bound = Bound { term: &term, subst: &subst };
+            let hasher = rustc_hash::FxBuildHasher;
+            proptest::prop_assert_eq!(hasher.hash_one(&built), hasher.hash_one(bound));
+            proptest::prop_assert!(indexmap::Equivalent::equivalent(&bound, &built));
+            proptest::prop_assert_eq!(indexmap::Equivalent::equivalent(&bound, &other), built == other);
+            proptest::prop_assert_eq!(bound.is_ground(), built.is_ground());
+            // Matching a pattern against a term: the same outcome and bindings as unifying.
+            let (mut general, mut ground) = (subst.clone(), subst.clone());
+            let unified = general.unify(&term, &other);
+            proptest::prop_assert_eq!(ground.unify_ground(&term, &other), unified);
+            if unified {
+                proptest::prop_assert_eq!(term.substitute(&ground), term.substitute(&general));
+            }
+        }
     }
 }

@@ -8,10 +8,17 @@
 
 use std::sync::Arc;
 
-use indexmap::IndexSet;
-use rustc_hash::{FxBuildHasher, FxHashMap, FxHashSet};
+use indexmap::{Equivalent, IndexSet};
+use rustc_hash::{FxBuildHasher, FxHashMap};
 
-use super::term::{Subst, Sym, Term};
+use super::term::{Bound, Subst, Sym, Term};
+
+/// A set of facts that a term under a substitution ([`Bound`]) can be looked up in unbuilt.
+type Facts = IndexSet<Term, FxBuildHasher>;
+
+/// Up to this many facts, an overlay set is scanned: comparing a few terms costs less than
+/// hashing one.
+const SCAN_AT_MOST: usize = 8;
 
 /// A fact's index key: its functor name and arity (`on/2`).
 type Key = (Sym, usize);
@@ -23,7 +30,7 @@ fn key_of(term: &Term) -> Option<Key> {
 /// The facts of the scene, built once per request and shared by every reading.
 #[derive(Debug, Default)]
 pub struct Base {
-    facts: FxHashSet<Term>,
+    facts: Facts,
     /// Facts by functor, in the order the scene states them.
     index: FxHashMap<Key, Vec<Term>>,
 }
@@ -56,22 +63,35 @@ impl Base {
 pub struct World {
     base: Arc<Base>,
     /// Facts made true by the simulation that the base does not hold, in the order made true.
-    added: IndexSet<Term, FxBuildHasher>,
+    added: Facts,
     /// Base facts the simulation made false.
-    removed: FxHashSet<Term>,
+    removed: Facts,
 }
 
 impl World {
     pub fn new(base: Arc<Base>) -> World {
         World {
             base,
-            added: IndexSet::default(),
-            removed: FxHashSet::default(),
+            added: Facts::default(),
+            removed: Facts::default(),
         }
     }
 
     pub fn holds(&self, fact: &Term) -> bool {
-        self.added.contains(fact) || (self.base.facts.contains(fact) && !self.removed.contains(fact))
+        // An empty overlay set is not hashed into: most readings change a fact or two.
+        (!self.added.is_empty() && self.added.contains(fact))
+            || (self.base.facts.contains(fact) && (self.removed.is_empty() || !self.removed.contains(fact)))
+    }
+
+    /// [`World::holds`] for a ground term under a substitution, without building it. A small
+    /// overlay (a reading makes a few facts true) is scanned rather than hashed into.
+    fn holds_bound(&self, fact: Bound<'_>) -> bool {
+        let in_small = |set: &Facts| match set.len() {
+            0 => false,
+            1..=SCAN_AT_MOST => set.iter().any(|f| fact.equivalent(f)),
+            _ => set.contains(&fact),
+        };
+        in_small(&self.added) || (self.base.facts.contains(&fact) && !in_small(&self.removed))
     }
 
     /// Makes `fact` true; returns whether it was false before.
@@ -79,7 +99,7 @@ impl World {
         if self.holds(&fact) {
             return false;
         }
-        if !self.removed.remove(&fact) {
+        if !self.removed.swap_remove(&fact) {
             self.added.insert(fact);
         }
         true
@@ -123,13 +143,15 @@ impl World {
         let Some((first, rest)) = literals.split_first() else {
             return found(subst);
         };
-        let goal = first.substitute(subst);
-        if goal.is_ground() {
-            return !self.holds(&goal) || self.solve(rest, subst, found);
+        // A literal the bindings make ground is one lookup, with no term built for it.
+        let bound = Bound { term: first, subst };
+        if bound.is_ground() {
+            return !self.holds_bound(bound) || self.solve(rest, subst, found);
         }
+        let goal = first.substitute(subst);
         for fact in self.candidates(&goal) {
             let mut extended = subst.clone();
-            if extended.unify(&goal, fact) && !self.solve(rest, &extended, found) {
+            if extended.unify_ground(&goal, fact) && !self.solve(rest, &extended, found) {
                 return false;
             }
         }
