@@ -85,6 +85,19 @@ fn s(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
+/// `scruple replay LINES --diff --norms PROPOSED --baseline-norms BASELINE`.
+fn replay_diff(lines: &Path, proposed: &Path, baseline: &Path) -> Output {
+    scruple(&[
+        "replay",
+        s(lines),
+        "--diff",
+        "--norms",
+        s(proposed),
+        "--baseline-norms",
+        s(baseline),
+    ])
+}
+
 #[test]
 fn clarify_get_the_vase_under_the_paper_norms_assumes_the_plastic_vase() {
     let demo = demo();
@@ -375,15 +388,7 @@ fn diff_without_the_vase_norm_lists_exactly_the_cases_it_changes() {
         .to_string(),
     );
 
-    let output = scruple(&[
-        "replay",
-        s(&jsonl),
-        "--diff",
-        "--norms",
-        s(&proposed),
-        "--baseline-norms",
-        s(&baseline),
-    ]);
+    let output = replay_diff(&jsonl, &proposed, &baseline);
 
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let report = stdout(&output);
@@ -427,15 +432,7 @@ fn diff_shows_the_decisions_a_soft_norm_changes_and_which_norm() {
     norms.push(json!({"kind": "discouraged_action", "action": "get(X)", "when": ["color(X,red)"], "severity": 2}));
     let proposed = write(dir.path(), "proposed.json", &Value::Array(norms).to_string());
 
-    let output = scruple(&[
-        "replay",
-        s(&jsonl),
-        "--diff",
-        "--norms",
-        s(&proposed),
-        "--baseline-norms",
-        s(&baseline),
-    ]);
+    let output = replay_diff(&jsonl, &proposed, &baseline);
 
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let report = stdout(&output);

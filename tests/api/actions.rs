@@ -6,7 +6,7 @@ use scruple::engine::Library;
 use scruple::transport::grpc::pb;
 use serde_json::{Value, json};
 
-use crate::helpers::{Options, TestApp, assert_problem, lab_scene, spawn_app, spawn_on, spawn_with};
+use crate::helpers::{Options, TestApp, assert_problem, lab_scene, raw_sql_on, spawn_app, spawn_on, spawn_with};
 
 async fn put(app: &TestApp, name: &str, verb: &Value) -> reqwest::Response {
     app.client
@@ -111,24 +111,14 @@ async fn an_older_store_gains_the_default_words_and_a_curators_words_are_kept() 
     assert_eq!(put(&app, "get", &get_words).await.status(), StatusCode::OK);
     app.stop().await;
     // As an older build left it: the seeded verbs without words, and the migration not applied.
-    let probe = spawn_on(dir.clone(), Options::default()).await;
-    let mut connection = {
-        use sqlx::ConnectOptions;
-        sqlx::sqlite::SqliteConnectOptions::new()
-            .filename(&probe.db_path)
-            .connect()
-            .await
-            .unwrap()
-    };
-    sqlx::raw_sql(
+    let db_path = dir.path().join("scruple.db");
+    raw_sql_on(
+        &db_path,
         "UPDATE actions SET definition = json_remove(definition, '$.words', '$.joiners') WHERE name <> 'get';
          DELETE FROM _sqlx_migrations WHERE version = 20261201000003;",
     )
-    .execute(&mut connection)
     .await
     .unwrap();
-    drop(connection);
-    probe.stop().await;
     let app = spawn_on(dir, Options::default()).await;
     let put_verb: Value = app.get("/v1/actions/put").await.json().await.unwrap();
     assert_eq!(put_verb["words"], json!(["put", "place", "set", "position"]));

@@ -58,6 +58,17 @@ pub async fn spawn_with(options: Options) -> TestApp {
     spawn_on(dir, options).await
 }
 
+/// Runs `sql` straight on a stopped server's SQLite file, as an older build or a hand edit
+/// would have left it; `Err` is the database's refusal.
+pub async fn raw_sql_on(db_path: &std::path::Path, sql: &'static str) -> Result<(), sqlx::Error> {
+    use sqlx::ConnectOptions;
+    let mut connection = sqlx::sqlite::SqliteConnectOptions::new()
+        .filename(db_path)
+        .connect()
+        .await?;
+    sqlx::raw_sql(sql).execute(&mut connection).await.map(drop)
+}
+
 /// Another server on the same database directory: a restart, or a second process sharing it.
 pub async fn spawn_on(dir: std::sync::Arc<TempDir>, options: Options) -> TestApp {
     let db_path = dir.path().join("scruple.db");

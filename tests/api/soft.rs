@@ -8,7 +8,7 @@ use scruple::transport::grpc::pb::norms_client::NormsClient;
 use serde_json::{Value, json};
 
 use crate::grpc::{as_rest_json, channel, clarify_request, norm_request};
-use crate::helpers::{Options, assert_problem, spawn_app, spawn_on};
+use crate::helpers::{Options, assert_problem, raw_sql_on, spawn_app, spawn_on};
 
 /// The serving tray of README's example: a clean and a dirty mug.
 fn tray(dirty_too: bool, clean: usize) -> Value {
@@ -226,16 +226,9 @@ async fn an_older_store_keeps_its_norms_and_ids_and_takes_soft_ones() {
     app.stop().await;
     // As an older build left it: the norms table with its check on the two forbidden kinds, and
     // the soft-norms migration not applied.
-    let probe = spawn_on(dir.clone(), Options::default()).await;
-    let mut connection = {
-        use sqlx::ConnectOptions;
-        sqlx::sqlite::SqliteConnectOptions::new()
-            .filename(&probe.db_path)
-            .connect()
-            .await
-            .unwrap()
-    };
-    sqlx::raw_sql(
+    let db_path = dir.path().join("scruple.db");
+    raw_sql_on(
+        &db_path,
         "CREATE TABLE norms_old (
              id INTEGER PRIMARY KEY AUTOINCREMENT,
              kind TEXT NOT NULL CHECK (kind IN ('forbidden_action', 'forbidden_state')),
@@ -251,15 +244,14 @@ async fn an_older_store_keeps_its_norms_and_ids_and_takes_soft_ones() {
          UPDATE sqlite_sequence SET seq = (SELECT seq FROM old_sequence) WHERE name = 'norms';
          DELETE FROM _sqlx_migrations WHERE version = 20261201000004;",
     )
-    .execute(&mut connection)
     .await
     .unwrap();
-    let refused = sqlx::raw_sql("INSERT INTO norms (kind, term) VALUES ('discouraged_action', 'get')")
-        .execute(&mut connection)
-        .await;
+    let refused = raw_sql_on(
+        &db_path,
+        "INSERT INTO norms (kind, term) VALUES ('discouraged_action', 'get')",
+    )
+    .await;
     assert!(refused.is_err(), "the older table refuses soft kinds");
-    drop(connection);
-    probe.stop().await;
 
     let app = spawn_on(dir, Options::default()).await;
     assert_eq!(app.norms().await, before, "every norm as it was");

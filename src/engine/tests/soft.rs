@@ -48,6 +48,17 @@ fn tray(mugs: Vec<Object>) -> Scene {
     scene(mugs, &[])
 }
 
+/// A clean mug and a dirty one.
+fn clean_and_dirty() -> Scene {
+    tray(vec![
+        mug("mug1", "clean", "blue", 0.1),
+        mug("mug2", "dirty", "green", -0.1),
+    ])
+}
+
+/// Today's question about the clean and the dirty mug, when no soft norm is in force.
+const WHICH_MUG: &str = "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?";
+
 /// Serving: one serves with clean things; handing over a dirty one is not wrong, only worse.
 fn serving() -> NormInput {
     in_context(when(soft(DA, "get(X)", 2), &["dirty(X)"]), "serving")
@@ -93,12 +104,6 @@ fn pick_up_the_thing_on_the_floor() -> Request {
 
 #[test]
 fn serving_and_tidying() {
-    let clean_and_dirty = || {
-        tray(vec![
-            mug("mug1", "clean", "blue", 0.1),
-            mug("mug2", "dirty", "green", -0.1),
-        ])
-    };
     run_cases(vec![
         case(
             "serving: the clean mug is assumed, the dirty one explained",
@@ -150,22 +155,14 @@ fn serving_and_tidying() {
             clean_and_dirty(),
             norms(&[serving()]),
             with_context(hand_me_the_mug(), "default"),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            ),
+            expect(Ask, None, WHICH_MUG),
         ),
         case(
             "soft_norms: ignore gives today's answer",
             clean_and_dirty(),
             norms(&[serving()]),
             with_options(hand_me_the_mug(), |o| o.soft_norms = SoftNorms::Ignore),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            )
+            expect(Ask, None, WHICH_MUG)
             .interps(vec![
                 interp("did(self,get(mug1))", "the clean mug", vec![], &["get(mug1)"]),
                 interp("did(self,get(mug2))", "the dirty mug", vec![], &["get(mug2)"]),
@@ -176,11 +173,7 @@ fn serving_and_tidying() {
             clean_and_dirty(),
             norms(&[serving()]),
             reflexive(hand_me_the_mug()),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            ),
+            expect(Ask, None, WHICH_MUG),
         ),
         case(
             "serving, confirming: the clean mug is asked about, the dirty one explained",
@@ -265,23 +258,13 @@ fn serving_and_tidying() {
             clean_and_dirty(),
             norms(&[soft(PA, "get(X)", 3)]),
             act("get", vec![ty("mug")]),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            ),
+            expect(Ask, None, WHICH_MUG),
         ),
     ]);
 }
 
 #[test]
 fn soft_norms_by_role_state_and_words() {
-    let clean_and_dirty = || {
-        tray(vec![
-            mug("mug1", "clean", "blue", 0.1),
-            mug("mug2", "dirty", "green", -0.1),
-        ])
-    };
     let guests = || {
         norms(&[for_roles(
             when(soft(DA, "get(X)", 3), &["dirty(X)"]),
@@ -310,22 +293,14 @@ fn soft_norms_by_role_state_and_words() {
             clean_and_dirty(),
             guests(),
             as_roles(&["cook"]),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            ),
+            expect(Ask, None, WHICH_MUG),
         ),
         case(
             "a norm for guests that exempts staff, asked by a guest on the staff",
             clean_and_dirty(),
             guests(),
             as_roles(&["guest", "staff"]),
-            expect(
-                Ask,
-                None,
-                "Do you mean that you want me to get the clean mug or that you want me to get the dirty mug?",
-            ),
+            expect(Ask, None, WHICH_MUG),
         ),
         case(
             "a discouraged state, entered by the plan: holding a dirty mug",
@@ -422,12 +397,6 @@ fn soft_norms_by_role_state_and_words() {
 
 #[test]
 fn natural_style_sets_the_tone_by_strength() {
-    let clean_and_dirty = || {
-        tray(vec![
-            mug("mug1", "clean", "blue", 0.1),
-            mug("mug2", "dirty", "green", -0.1),
-        ])
-    };
     let natural = |request: Request| with_options(request, |o| o.style = Style::Natural);
     let by = |severity: i64| norms(&[when(soft(DA, "get(X)", severity), &["dirty(X)"])]);
     for (severity, said) in [
