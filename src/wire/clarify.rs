@@ -342,11 +342,16 @@ impl From<OptionsBody> for OptionsInput {
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct ReasonDto {
+    /// A norm's kind (`forbidden_*`, which makes the reading impermissible; `discouraged_*`
+    /// and `preferred_*`, which only rank it), or why it cannot be done (`unknown_action`,
+    /// `unreachable`, `precondition`, ...).
     pub kind: String,
+    /// The step or fact at fault, canonical; for a soft norm the step or state that met it.
     pub detail: String,
+    /// The norm behind a norm's reason.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub norm_id: Option<i64>,
-    /// The norm's severity, 1..5, for a `forbidden_*` reason.
+    /// The norm's severity, 1..5, for a norm's reason: for a soft norm, its strength.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub severity: Option<u8>,
     /// The reason in words, in the request's style ("it requires a forbidden state").
