@@ -63,6 +63,19 @@ impl NormKind {
     pub fn is_soft(self) -> bool {
         self.force() != Force::Forbidden
     }
+
+    /// The functor of a reason this kind of norm gives, as speech acts carry it:
+    /// `forbiddenAction(destroy)`, `discouragedState(holding(self,mug2))`.
+    pub fn reason_functor(self) -> &'static str {
+        match self {
+            NormKind::ForbiddenAction => "forbiddenAction",
+            NormKind::ForbiddenState => "forbiddenState",
+            NormKind::DiscouragedAction => "discouragedAction",
+            NormKind::DiscouragedState => "discouragedState",
+            NormKind::PreferredAction => "preferredAction",
+            NormKind::PreferredState => "preferredState",
+        }
+    }
 }
 
 impl Spelled for NormKind {
@@ -483,22 +496,16 @@ impl CompiledNorms {
                 continue;
             }
             let spec = &rule.norm.spec;
-            let soft = if spec.kind.is_soft() {
-                // The first solution of `when` is the one its words name.
-                let mut found = None;
-                world.solve(&spec.when, &subst, &mut |solution| {
-                    found = rule.soft_match(solution);
-                    false
-                });
-                if found.is_none() {
-                    continue;
-                }
-                found
-            } else if world.satisfiable(&spec.when, &subst) {
-                None
-            } else {
+            // The first solution of `when` is enough; a soft norm's words name it.
+            let (mut met, mut soft) = (false, None);
+            world.solve(&spec.when, &subst, &mut |solution| {
+                met = true;
+                soft = rule.soft_match(solution);
+                false
+            });
+            if !met {
                 continue;
-            };
+            }
             out.push(ActionViolation {
                 norm_id: rule.norm.id,
                 kind: spec.kind,

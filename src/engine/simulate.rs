@@ -125,21 +125,17 @@ impl Reason {
     pub fn term(&self) -> Term {
         let (name, arg) = match &self.cause {
             Cause::Soft { kind, what, .. } => {
-                let name = match kind {
-                    NormKind::DiscouragedAction => "discouragedAction",
-                    NormKind::DiscouragedState => "discouragedState",
-                    NormKind::PreferredAction => "preferredAction",
-                    _ => "preferredState",
-                };
                 // An action norm is named by its verb, as `forbiddenAction(destroy)` is.
                 let arg = match (kind.on_action(), what.name()) {
                     (true, Some(verb)) => Term::Const(verb.clone()),
                     _ => what.clone(),
                 };
-                (name, arg)
+                (kind.reason_functor(), arg)
             }
-            Cause::ForbiddenAction { name, .. } => ("forbiddenAction", Term::Const(name.clone())),
-            Cause::ForbiddenState { fact } => ("forbiddenState", fact.clone()),
+            Cause::ForbiddenAction { name, .. } => {
+                (NormKind::ForbiddenAction.reason_functor(), Term::Const(name.clone()))
+            }
+            Cause::ForbiddenState { fact } => (NormKind::ForbiddenState.reason_functor(), fact.clone()),
             Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
             Cause::Unreachable { object } => ("unreachable", Term::Const(object.clone())),
             Cause::Blocked { object, by } => {
@@ -292,27 +288,18 @@ impl Run<'_> {
     fn soft(&self, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
         let objects = self.reading.args();
         let scene = self.env.scene;
+        // An argument as the bindings make it: an object's id, or another constant.
+        fn value<'a>(arg: &'a Term, subst: &'a Subst) -> &'a Term {
+            Bound { term: arg, subst }.resolved()
+        }
         let spoken = |literal: &&Term| {
-            let names_one = |arg: &Term| {
-                objects.contains(
-                    Bound {
-                        term: arg,
-                        subst: &found.solution,
-                    }
-                    .resolved(),
-                )
-            };
             let its_type = match (literal.name(), literal.args()) {
-                (Some(name), [subject]) => (Bound {
-                    term: subject,
-                    subst: &found.solution,
-                }
-                .resolved()
-                .name())
-                .and_then(|id| scene.object(id))
-                .is_some_and(|o| o.kind == **name),
+                (Some(name), [subject]) => (value(subject, &found.solution).name())
+                    .and_then(|id| scene.object(id))
+                    .is_some_and(|o| o.kind == **name),
                 _ => false,
             };
+            let names_one = |arg| objects.contains(value(arg, &found.solution));
             literal.args().iter().any(names_one) && !its_type
         };
         let about = (found.when.iter().filter(spoken))

@@ -353,21 +353,29 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
 /// A soft reason in words, the same in both styles: the norm's `when` facts about the reading's
 /// objects ("the mug is dirty"), else its note, else "it is discouraged" / "it is preferred".
 fn soft_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
-    let Cause::Soft { kind, about, note, .. } = &reason.cause else {
-        return String::new();
+    soft_words_named(reason, describer).unwrap_or_else(|| match reason.force() {
+        Some(Force::Preferred) => "it is preferred".to_owned(),
+        _ => "it is discouraged".to_owned(),
+    })
+}
+
+/// The words a soft reason names: its facts about the reading's objects, else its note; `None`
+/// when it has neither.
+fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<String> {
+    let Cause::Soft { about, note, .. } = &reason.cause else {
+        return None;
     };
     let mut facts: Vec<String> = (about.iter())
         .filter_map(|fact| describer.fact(fact, |describer| fact_words(fact, describer)))
         .collect();
     match facts.len() {
-        0 => {}
-        1 => return facts.swap_remove(0),
-        _ => return listed(&facts, "and"),
-    }
-    match (note.as_deref().map(str::trim), kind.force()) {
-        (Some(note), _) if !note.is_empty() => note.to_owned(),
-        (_, Force::Preferred) => "it is preferred".to_owned(),
-        _ => "it is discouraged".to_owned(),
+        0 => note
+            .as_deref()
+            .map(str::trim)
+            .filter(|n| !n.is_empty())
+            .map(str::to_owned),
+        1 => Some(facts.swap_remove(0)),
+        _ => Some(listed(&facts, "and")),
     }
 }
 
@@ -380,7 +388,7 @@ fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
     let name = spoken(functor);
     Some(match fact.args() {
         [subject] => format!("{} is {name}", describer.argument(subject)),
-        [subject, value] if describer.has_attribute(subject_id, fact.name()?) => format!(
+        [subject, value] if describer.has_attribute(subject_id, functor) => format!(
             "the {name} of {} is {}",
             describer.argument(subject),
             describer.argument(value)
@@ -421,16 +429,14 @@ fn dispreferred_reasons<'a>(dispreferred: &'a Interpretation, chosen: &'a Interp
     dispreferred.outcome.discouraged().collect()
 }
 
-/// The words of [`dispreferred_reasons`]. A preferred norm with nothing to name is said of the
-/// chosen reading: "getting the plastic vase is preferred".
-fn dispreferred_words(dispreferred: &Interpretation, chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
-    let words: Vec<String> = dispreferred_reasons(dispreferred, chosen)
-        .into_iter()
-        .map(|r| match (r.force(), soft_words(r, describer)) {
-            (Some(Force::Preferred), words) if words == "it is preferred" => {
-                format!("{} is preferred", doing(chosen))
-            }
-            (_, words) => words,
+/// The words of `reasons` (from [`dispreferred_reasons`]). A preferred norm with nothing to
+/// name is said of the chosen reading: "getting the plastic vase is preferred".
+fn dispreferred_words(reasons: &[&Reason], chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
+    let words: Vec<String> = (reasons.iter())
+        .map(|r| match (soft_words_named(r, describer), r.force()) {
+            (Some(words), _) => words,
+            (None, Some(Force::Preferred)) => format!("{} is preferred", doing(chosen)),
+            (None, _) => "it is discouraged".to_owned(),
         })
         .collect();
     if words.is_empty() {
@@ -452,11 +458,9 @@ fn doing(i: &Interpretation) -> String {
 /// A dispreferred reading in fluent words; the strength of the norms behind it sets the tone
 /// (1–2 mild, 3 plain, 4–5 strong).
 fn natural_rather_not(dispreferred: &Interpretation, chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
-    let why = dispreferred_words(dispreferred, chosen, describer);
-    let strength = (dispreferred_reasons(dispreferred, chosen).iter())
-        .filter_map(|r| r.severity)
-        .max()
-        .unwrap_or(3);
+    let reasons = dispreferred_reasons(dispreferred, chosen);
+    let why = dispreferred_words(&reasons, chosen, describer);
+    let strength = (reasons.iter()).filter_map(|r| r.severity).max().unwrap_or(3);
     match strength {
         1 | 2 => format!("I'd slightly prefer not to {}: {why}.", dispreferred.reading),
         3 => format!("I'd rather not {}: {why}.", dispreferred.reading),
@@ -492,7 +496,7 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
                 true => format!(
                     " I would rather not {} because {}.",
                     all[i].reading,
-                    dispreferred_words(&all[i], &all[chosen], describer)
+                    dispreferred_words(&dispreferred_reasons(&all[i], &all[chosen]), &all[chosen], describer)
                 ),
                 false => format!(" {}.", diarc_cannot(&all[i], describer)),
             })
