@@ -369,14 +369,35 @@ fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<St
         .filter_map(|fact| describer.fact(fact, |describer| fact_words(fact, describer)))
         .collect();
     match facts.len() {
-        0 => note
-            .as_deref()
-            .map(str::trim)
-            .filter(|n| !n.is_empty())
-            .map(str::to_owned),
+        0 => note.as_deref().and_then(note_words),
         1 => Some(facts.swap_remove(0)),
         _ => Some(listed(&facts, "and")),
     }
+}
+
+/// A norm's note as words inside a sentence. The note is the operator's text, stored as written;
+/// what is spoken of it carries no control or direction-changing characters (a NUL or a U+202E
+/// would reach a listener's screen or speech engine), its spaces are single and it loses a
+/// closing full stop, since the sentence supplies its own. `None` when nothing is left.
+fn note_words(note: &str) -> Option<String> {
+    let mut words = String::with_capacity(note.len());
+    for c in note.chars() {
+        let invisible = matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}'
+            | '\u{2060}'..='\u{2069}' | '\u{061c}' | '\u{feff}');
+        if invisible {
+            continue;
+        }
+        if c.is_control() || c.is_whitespace() {
+            if !words.is_empty() && !words.ends_with(' ') {
+                words.push(' ');
+            }
+        } else {
+            words.push(c);
+        }
+    }
+    let kept = words.trim_end().trim_end_matches('.').trim_end().len();
+    words.truncate(kept);
+    (!words.is_empty()).then_some(words)
 }
 
 /// A fact about an object, in words: `dirty(mug1)` → "the mug is dirty", `color(mug1,red)` →
@@ -613,6 +634,24 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_note_is_spoken_without_what_a_listener_cannot_see() {
+        for (note, words) in [
+            ("that mug is reserved", Some("that mug is reserved")),
+            ("  that mug\tis\n\nreserved.  ", Some("that mug is reserved")),
+            ("\u{202e}evil\u{0}", Some("evil")),
+            ("a\u{0}b", Some("a b")),
+            ("zero\u{200b}width\u{feff}", Some("zerowidth")),
+            ("\u{2066}isolated\u{2069} text", Some("isolated text")),
+            ("\u{1b}[31mred", Some("[31mred")),
+            ("Ünïcödé stays, 雨 too", Some("Ünïcödé stays, 雨 too")),
+            ("\u{0}\u{202e} . ", None),
+            ("", None),
+        ] {
+            assert_eq!(note_words(note).as_deref(), words, "{note:?}");
+        }
+    }
 
     #[test]
     fn gerunds_and_plurals() {

@@ -354,6 +354,20 @@ fn soft_norms_by_role_state_and_words() {
             expect(Comply, Some("did(self,get(mug2))"), "Okay, although that mug is reserved."),
         ),
         case(
+            "a note's control and direction characters are not spoken",
+            clean_and_dirty(),
+            norms(&[noted(soft(DA, "get(mug2)", 3), "\u{202e}that mug\u{0} is\nreserved.")]),
+            act("get", vec![id("mug2")]),
+            expect(Comply, Some("did(self,get(mug2))"), "Okay, although that mug is reserved."),
+        ),
+        case(
+            "a note of nothing visible: the default words",
+            clean_and_dirty(),
+            norms(&[noted(soft(DA, "get(mug2)", 3), "\u{202e}\u{0} ")]),
+            act("get", vec![id("mug2")]),
+            expect(Comply, Some("did(self,get(mug2))"), "Okay, although it is discouraged."),
+        ),
+        case(
             "no `when` and no note: the default words",
             clean_and_dirty(),
             norms(&[soft(DA, "get(mug2)", 3)]),
