@@ -16,6 +16,7 @@ pub mod resolve;
 pub mod scene;
 pub mod simulate;
 pub mod speech;
+pub mod sym;
 pub mod term;
 pub mod words;
 pub mod world;

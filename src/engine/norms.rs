@@ -415,11 +415,8 @@ impl CompiledNorms {
             version,
             ..CompiledNorms::default()
         };
-        for mut norm in norms {
+        for norm in norms {
             let index = compiled.rules.len();
-            let mut names = Vec::new();
-            norm.spec.term = norm.spec.term.sharing_names(&mut names);
-            norm.spec.when = norm.spec.when.iter().map(|w| w.sharing_names(&mut names)).collect();
             let mut literals = vec![norm.spec.term.clone()];
             literals.extend(norm.spec.when.iter().cloned());
             if norm.spec.kind.on_action() {
@@ -471,16 +468,13 @@ impl CompiledNorms {
     }
 
     /// Action norms in force in `scope` that `action` meets in `world` (the world before the
-    /// action): forbidden and discouraged ones it breaks, preferred ones it follows. A norm
-    /// naming only an action (`destroy`) matches it at any arity.
-    pub fn check_action(&self, action: &Term, world: &World, scope: Scope<'_>) -> Vec<ActionViolation> {
-        let Some(name) = action.name() else {
-            return Vec::new();
-        };
+    /// action), handed to `found` in id order: forbidden and discouraged ones it breaks,
+    /// preferred ones it follows. A norm naming only an action (`destroy`) matches it at any arity.
+    pub fn check_action(&self, action: &Term, world: &World, scope: Scope<'_>, found: &mut dyn FnMut(ActionViolation)) {
+        let Some(name) = action.name() else { return };
         let Some(indices) = self.actions_by_name.get(name) else {
-            return Vec::new();
+            return;
         };
-        let mut out = Vec::new();
         for &index in indices {
             let rule = &self.rules[index];
             if !rule.norm.applies_in(scope) {
@@ -503,25 +497,30 @@ impl CompiledNorms {
                 soft = rule.soft_match(solution);
                 false
             });
-            if !met {
-                continue;
+            if met {
+                found(ActionViolation {
+                    norm_id: rule.norm.id,
+                    kind: spec.kind,
+                    severity: spec.severity,
+                    name: name.clone(),
+                    soft,
+                });
             }
-            out.push(ActionViolation {
-                norm_id: rule.norm.id,
-                kind: spec.kind,
-                severity: spec.severity,
-                name: name.clone(),
-                soft,
-            });
         }
-        out
     }
 
     /// State norms in force that `world` meets because of the facts in `new_facts` (just made
-    /// true): each involves at least one of them, so states the world was already in are not
-    /// reported again. Deterministic: by new fact, then norm id, then solution order.
-    pub fn check_entered(&self, new_facts: &[Term], world: &World, scope: Scope<'_>) -> Vec<StateViolation> {
-        let mut out: Vec<StateViolation> = Vec::new();
+    /// true), handed to `found`: each involves at least one of them, so states the world was
+    /// already in are not reported again. Deterministic: by new fact, then norm id, then solution
+    /// order. A state reached through two new facts is reported for each (the caller keeps one);
+    /// a soft norm stops at its first state, since it counts once.
+    pub fn check_entered(
+        &self,
+        new_facts: &[Term],
+        world: &World,
+        scope: Scope<'_>,
+        found: &mut dyn FnMut(StateViolation),
+    ) {
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
             let by_key = self.states_by_key.get(&(name.clone(), fact.arity()));
@@ -550,23 +549,22 @@ impl CompiledNorms {
                 }
                 let soft = rule.norm.spec.kind.is_soft();
                 world.solve(&rule.others[position], &seed, &mut |solution| {
-                    let state = rule.norm.spec.term.substitute(solution);
-                    // A soft norm counts once per reading: its first state is enough.
-                    let seen = |v: &StateViolation| v.norm_id == rule.norm.id && (soft || v.fact == state);
-                    if !out.iter().any(seen) {
-                        out.push(StateViolation {
-                            norm_id: rule.norm.id,
-                            kind: rule.norm.spec.kind,
-                            severity: rule.norm.spec.severity,
-                            fact: state,
-                            soft: rule.soft_match(solution),
-                        });
-                    }
+                    // Matched at the state itself, the state is the new fact: nothing to build.
+                    let state = match position {
+                        0 => fact.clone(),
+                        _ => rule.norm.spec.term.substitute(solution),
+                    };
+                    found(StateViolation {
+                        norm_id: rule.norm.id,
+                        kind: rule.norm.spec.kind,
+                        severity: rule.norm.spec.severity,
+                        fact: state,
+                        soft: rule.soft_match(solution),
+                    });
                     !soft
                 });
             }
         }
-        out
     }
 }
 

@@ -195,6 +195,19 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// Adds `reason` unless it is there already; a soft norm counts once per reading, at the
+    /// first step or state that met it.
+    fn push(&mut self, reason: Reason) {
+        let seen = if reason.is_soft() {
+            (self.reasons.iter()).any(|r| r.is_soft() && r.norm_id == reason.norm_id)
+        } else {
+            self.reasons.contains(&reason)
+        };
+        if !seen {
+            self.reasons.push(reason);
+        }
+    }
+
     /// The simulation was cut short by the deadline: the reading is infeasible, and the answer
     /// must say a limit was hit.
     pub fn unfinished(&self) -> bool {
@@ -237,6 +250,36 @@ fn repeated_argument(action: &Term) -> Option<Sym> {
         .and_then(|(_, a)| a.name().cloned())
 }
 
+/// The soft reason for a norm met by `what` in a simulation of `reading`. Its `when` facts are
+/// kept (instantiated) where they name one of the reading's objects and are not just that
+/// object's type: the facts a reason's words name.
+fn soft(scene: &Scene, reading: &Term, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
+    let objects = reading.args();
+    // An argument as the bindings make it: an object's id, or another constant.
+    fn value<'a>(arg: &'a Term, subst: &'a Subst) -> &'a Term {
+        Bound { term: arg, subst }.resolved()
+    }
+    let spoken = |literal: &&Term| {
+        let its_type = match (literal.name(), literal.args()) {
+            (Some(name), [subject]) => (value(subject, &found.solution).name())
+                .and_then(|id| scene.object(id))
+                .is_some_and(|o| o.kind == **name),
+            _ => false,
+        };
+        let names_one = |arg| objects.contains(value(arg, &found.solution));
+        literal.args().iter().any(names_one) && !its_type
+    };
+    let about = (found.when.iter().filter(spoken))
+        .map(|literal| literal.substitute(&found.solution))
+        .collect();
+    Cause::Soft {
+        kind,
+        what,
+        about,
+        note: found.note,
+    }
+}
+
 /// `did(self,action)`: the paper's convention for "action is done".
 pub fn did(action: &Term) -> Term {
     Term::compound("did", vec![Term::constant("self"), action.clone()])
@@ -271,79 +314,53 @@ impl Run<'_> {
     }
 
     fn push(&mut self, reason: Reason) {
-        // A soft norm counts once per reading, at the first step or state that met it.
-        let seen = if reason.is_soft() {
-            (self.outcome.reasons.iter()).any(|r| r.is_soft() && r.norm_id == reason.norm_id)
-        } else {
-            self.outcome.reasons.contains(&reason)
-        };
-        if !seen {
-            self.outcome.reasons.push(reason);
-        }
-    }
-
-    /// The soft reason for a norm met by `what`. Its `when` facts are kept (instantiated) where
-    /// they name one of the reading's objects and are not just that object's type: the facts a
-    /// reason's words name.
-    fn soft(&self, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
-        let objects = self.reading.args();
-        let scene = self.env.scene;
-        // An argument as the bindings make it: an object's id, or another constant.
-        fn value<'a>(arg: &'a Term, subst: &'a Subst) -> &'a Term {
-            Bound { term: arg, subst }.resolved()
-        }
-        let spoken = |literal: &&Term| {
-            let its_type = match (literal.name(), literal.args()) {
-                (Some(name), [subject]) => (value(subject, &found.solution).name())
-                    .and_then(|id| scene.object(id))
-                    .is_some_and(|o| o.kind == **name),
-                _ => false,
-            };
-            let names_one = |arg| objects.contains(value(arg, &found.solution));
-            literal.args().iter().any(names_one) && !its_type
-        };
-        let about = (found.when.iter().filter(spoken))
-            .map(|literal| literal.substitute(&found.solution))
-            .collect();
-        Cause::Soft {
-            kind,
-            what,
-            about,
-            note: found.note,
-        }
+        self.outcome.push(reason);
     }
 
     fn check_action(&mut self, action: &Term) {
-        for v in self.env.norms.check_action(action, &self.world, self.env.scope) {
+        let Run {
+            env,
+            reading,
+            world,
+            outcome,
+            ..
+        } = self;
+        env.norms.check_action(action, world, env.scope, &mut |v| {
             let cause = match v.soft {
-                Some(found) => self.soft(v.kind, action.clone(), found),
+                Some(found) => soft(env.scene, reading, v.kind, action.clone(), found),
                 None => Cause::ForbiddenAction {
                     step: action.clone(),
                     name: v.name,
                 },
             };
-            self.push(Reason {
+            outcome.push(Reason {
                 cause,
                 norm_id: Some(v.norm_id),
                 severity: Some(v.severity),
             });
-        }
+        });
     }
 
     /// State norms the world meets because of `new_facts`, just made true in it.
     fn check_entered(&mut self, new_facts: &[Term]) {
-        let found = self.env.norms.check_entered(new_facts, &self.world, self.env.scope);
-        for v in found {
+        let Run {
+            env,
+            reading,
+            world,
+            outcome,
+            ..
+        } = self;
+        env.norms.check_entered(new_facts, world, env.scope, &mut |v| {
             let cause = match v.soft {
-                Some(found) => self.soft(v.kind, v.fact, found),
+                Some(found) => soft(env.scene, reading, v.kind, v.fact, found),
                 None => Cause::ForbiddenState { fact: v.fact },
             };
-            self.push(Reason {
+            outcome.push(Reason {
                 cause,
                 norm_id: Some(v.norm_id),
                 severity: Some(v.severity),
             });
-        }
+        });
     }
 
     /// Runs `action`'s steps. `checked` is true when the action was already checked against the

@@ -8,8 +8,7 @@ use std::fmt;
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
-/// A symbol: the name of a constant, a variable or a functor. Cheap to clone and to compare.
-pub type Sym = Arc<str>;
+pub use super::sym::Sym;
 
 /// Nesting deeper than this is refused by default, so that no input can exhaust the stack.
 pub const MAX_DEPTH: usize = 32;
@@ -131,24 +130,6 @@ impl Term {
             Term::Const(_) => true,
             Term::Var(_) => false,
             Term::Compound(_, args) => args.iter().all(Term::is_ground),
-        }
-    }
-
-    /// The same term, its variables' names shared with those in `names` (and added to it):
-    /// a norm's literals then name `X` with one allocation, which bindings compare by address.
-    pub fn sharing_names(&self, names: &mut Vec<Sym>) -> Term {
-        match self {
-            Term::Var(name) => match names.iter().find(|n| **n == *name) {
-                Some(shared) => Term::Var(shared.clone()),
-                None => {
-                    names.push(name.clone());
-                    self.clone()
-                }
-            },
-            Term::Const(_) => self.clone(),
-            Term::Compound(name, args) => {
-                Term::Compound(name.clone(), args.iter().map(|a| a.sharing_names(names)).collect())
-            }
         }
     }
 
@@ -439,12 +420,8 @@ impl Subst {
         Self::default()
     }
 
-    pub fn get(&self, var: &str) -> Option<&Term> {
-        // The same name is most often the same allocation (a compiled norm shares its
-        // variables' names), so the address is compared before the text.
-        (self.bindings.iter())
-            .find(|(v, _)| std::ptr::eq(v.as_ptr(), var.as_ptr()) && v.len() == var.len() || &**v == var)
-            .map(|(_, t)| t)
+    pub fn get(&self, var: &Sym) -> Option<&Term> {
+        self.bindings.iter().find(|(v, _)| v == var).map(|(_, t)| t)
     }
 
     pub fn bind(&mut self, var: Sym, value: Term) {
