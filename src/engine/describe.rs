@@ -68,8 +68,6 @@ pub struct Describer<'a> {
     scene: &'a Scene,
     library: &'a Library,
     cache: FxHashMap<String, String>,
-    /// Facts already put in words (a soft reason's `when` facts), each said once per request.
-    facts: FxHashMap<Term, Option<String>>,
 }
 
 impl<'a> Describer<'a> {
@@ -78,39 +76,39 @@ impl<'a> Describer<'a> {
             scene,
             library,
             cache: FxHashMap::default(),
-            facts: FxHashMap::default(),
         }
     }
 
     /// An argument in words: an object of the scene by its description, another constant as
     /// spoken, anything else as its canonical term.
     pub fn argument(&mut self, arg: &Term) -> String {
-        match arg {
-            Term::Const(name) => match self.scene.object(name) {
-                Some(object) => self
-                    .cache
-                    .entry(object.id.clone())
-                    .or_insert_with(|| describe_object(self.scene, object))
-                    .clone(),
-                None => spoken(name),
-            },
-            other => other.to_string(),
+        let mut words = String::new();
+        self.argument_into(arg, &mut words);
+        words
+    }
+
+    /// [`Describer::argument`], appended to `out`.
+    pub fn argument_into(&mut self, arg: &Term, out: &mut String) {
+        let Term::Const(name) = arg else {
+            out.push_str(&arg.to_string());
+            return;
+        };
+        let Some(object) = self.scene.object(name) else {
+            out.push_str(&spoken(name));
+            return;
+        };
+        if let Some(words) = self.cache.get(object.id.as_str()) {
+            out.push_str(words);
+            return;
         }
+        let words = describe_object(self.scene, object);
+        out.push_str(&words);
+        self.cache.insert(object.id.clone(), words);
     }
 
     /// Whether the scene object has an attribute of this key (`color`).
     pub fn has_attribute(&self, id: &str, key: &str) -> bool {
         self.scene.object(id).is_some_and(|o| o.attributes.contains_key(key))
-    }
-
-    /// The words of a fact, once per request: `words` runs the first time only.
-    pub fn fact(&mut self, fact: &Term, words: impl FnOnce(&mut Self) -> Option<String>) -> Option<String> {
-        if let Some(said) = self.facts.get(fact) {
-            return said.clone();
-        }
-        let said = words(self);
-        self.facts.insert(fact.clone(), said.clone());
-        said
     }
 
     /// The type of a scene object, spoken ("cash box").

@@ -365,9 +365,7 @@ fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<St
     let Cause::Soft { about, note, .. } = &reason.cause else {
         return None;
     };
-    let mut facts: Vec<String> = (about.iter())
-        .filter_map(|fact| describer.fact(fact, |describer| fact_words(fact, describer)))
-        .collect();
+    let mut facts: Vec<String> = (about.iter()).filter_map(|fact| fact_words(fact, describer)).collect();
     match facts.len() {
         0 => note.as_deref().and_then(note_words),
         1 => Some(facts.swap_remove(0)),
@@ -407,20 +405,31 @@ fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
     let functor = fact.name()?;
     let subject_id = fact.args().first()?.name()?;
     let name = spoken(functor);
-    Some(match fact.args() {
-        [subject] => format!("{} is {name}", describer.argument(subject)),
-        [subject, value] if describer.has_attribute(subject_id, functor) => format!(
-            "the {name} of {} is {}",
-            describer.argument(subject),
-            describer.argument(value)
-        ),
-        [subject, other] => format!(
-            "{} is {name} {}",
-            describer.argument(subject),
-            describer.argument(other)
-        ),
-        _ => fact.to_string(),
-    })
+    let mut words = String::with_capacity(48);
+    match fact.args() {
+        [subject] => {
+            describer.argument_into(subject, &mut words);
+            words.push_str(" is ");
+            words.push_str(&name);
+        }
+        [subject, value] if describer.has_attribute(subject_id, functor) => {
+            words.push_str("the ");
+            words.push_str(&name);
+            words.push_str(" of ");
+            describer.argument_into(subject, &mut words);
+            words.push_str(" is ");
+            describer.argument_into(value, &mut words);
+        }
+        [subject, other] => {
+            describer.argument_into(subject, &mut words);
+            words.push_str(" is ");
+            words.push_str(&name);
+            words.push(' ');
+            describer.argument_into(other, &mut words);
+        }
+        _ => return Some(fact.to_string()),
+    }
+    Some(words)
 }
 
 /// What a reading that breaks a discouraged norm is still done "although": the words of each

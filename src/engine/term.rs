@@ -45,7 +45,7 @@ impl Default for TermLimits {
 }
 
 /// A logical term. Constants and compounds are ground unless an argument holds a variable.
-/// Its hash is [`hash_term`]'s, so that a term under a substitution ([`Bound`]) is looked up in
+/// Its hash is [`term_hash`]'s, so that a term under a substitution ([`Bound`]) is looked up in
 /// a set of terms without being built.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Term {
@@ -327,36 +327,47 @@ impl Parser<'_> {
 
 impl Hash for Term {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        hash_term(self, None, state);
+        state.write_u64(term_hash(self, None).0);
     }
 }
 
-/// The one hashing scheme of terms: a tag per variant, the name, and for a compound its arity
-/// and arguments. Under `subst`, a bound variable hashes as its value does, so a term and
-/// the term `substitute` would build from it hash alike.
-fn hash_term<H: Hasher>(term: &Term, subst: Option<&Subst>, state: &mut H) {
-    let term = match (term, subst) {
-        (Term::Var(_), Some(s)) => s.walk(term),
-        _ => term,
-    };
-    match term {
-        Term::Const(name) => {
-            state.write_u8(0);
-            name.hash(state);
-        }
-        Term::Var(name) => {
-            state.write_u8(1);
-            name.hash(state);
-        }
-        Term::Compound(name, args) => {
-            state.write_u8(2);
-            name.hash(state);
-            state.write_usize(args.len());
-            for arg in args.iter() {
-                hash_term(arg, subst, state);
+/// The one hashing scheme of terms, written to any hasher as one word, so that a key whose
+/// hash is already known ([`Prehashed`]) finds the term: a tag per variant, the name, and for a
+/// compound its arity and arguments. Under `subst`, a bound variable hashes as its value does,
+/// so a term and the term `substitute` would build from it hash alike. Also says whether the
+/// term is ground under `subst`: one walk answers both.
+fn term_hash(term: &Term, subst: Option<&Subst>) -> (u64, bool) {
+    fn walk(term: &Term, subst: Option<&Subst>, state: &mut rustc_hash::FxHasher) -> bool {
+        let term = match (term, subst) {
+            (Term::Var(_), Some(s)) => s.walk(term),
+            _ => term,
+        };
+        match term {
+            Term::Const(name) => {
+                state.write_u8(0);
+                name.hash(state);
+                true
+            }
+            Term::Var(name) => {
+                state.write_u8(1);
+                name.hash(state);
+                false
+            }
+            Term::Compound(name, args) => {
+                state.write_u8(2);
+                name.hash(state);
+                state.write_usize(args.len());
+                let mut ground = true;
+                for arg in args.iter() {
+                    ground &= walk(arg, subst, state);
+                }
+                ground
             }
         }
     }
+    let mut state = rustc_hash::FxHasher::default();
+    let ground = walk(term, subst, &mut state);
+    (state.finish(), ground)
 }
 
 /// A term under a substitution, as a key: it hashes and compares as `term.substitute(subst)`
@@ -374,22 +385,36 @@ impl<'a> Bound<'a> {
         self.subst.walk(self.term)
     }
 
-    /// Whether the term has no unbound variable under the substitution.
-    pub fn is_ground(&self) -> bool {
-        fn ground(term: &Term, subst: &Subst) -> bool {
-            match subst.walk(term) {
-                Term::Var(_) => false,
-                Term::Const(_) => true,
-                Term::Compound(_, args) => args.iter().all(|a| ground(a, subst)),
-            }
-        }
-        ground(self.term, self.subst)
+    /// The hash the term would have once built, and whether it is ground under the bindings
+    /// (no unbound variable): what a lookup needs, in one walk.
+    pub fn hashed(&self) -> (Prehashed<'a>, bool) {
+        let (hash, ground) = term_hash(self.term, Some(self.subst));
+        (Prehashed { hash, bound: *self }, ground)
+    }
+}
+
+/// A [`Bound`] with its hash already computed, as a key.
+#[derive(Clone, Copy)]
+pub struct Prehashed<'a> {
+    hash: u64,
+    pub bound: Bound<'a>,
+}
+
+impl Hash for Prehashed<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        state.write_u64(self.hash);
+    }
+}
+
+impl indexmap::Equivalent<Term> for Prehashed<'_> {
+    fn equivalent(&self, key: &Term) -> bool {
+        self.bound.equivalent(key)
     }
 }
 
 impl Hash for Bound<'_> {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        hash_term(self.term, Some(self.subst), state);
+        state.write_u64(term_hash(self.term, Some(self.subst)).0);
     }
 }
 
@@ -644,7 +669,9 @@ mod tests {
             proptest::prop_assert_eq!(hasher.hash_one(&built), hasher.hash_one(bound));
             proptest::prop_assert!(indexmap::Equivalent::equivalent(&bound, &built));
             proptest::prop_assert_eq!(indexmap::Equivalent::equivalent(&bound, &other), built == other);
-            proptest::prop_assert_eq!(bound.is_ground(), built.is_ground());
+            let (prehashed, ground) = bound.hashed();
+            proptest::prop_assert_eq!(hasher.hash_one(prehashed), hasher.hash_one(&built));
+            proptest::prop_assert_eq!(ground, built.is_ground());
             // Matching a pattern against a term: the same outcome and bindings as unifying.
             let (mut general, mut ground) = (subst.clone(), subst.clone());
             let unified = general.unify(&term, &other);

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use indexmap::{Equivalent, IndexSet};
 use rustc_hash::{FxBuildHasher, FxHashMap};
 
-use super::term::{Bound, Subst, Sym, Term};
+use super::term::{Bound, Prehashed, Subst, Sym, Term};
 
 /// A set of facts that a term under a substitution ([`Bound`]) can be looked up in unbuilt.
 type Facts = IndexSet<Term, FxBuildHasher>;
@@ -85,10 +85,10 @@ impl World {
 
     /// [`World::holds`] for a ground term under a substitution, without building it. A small
     /// overlay (a reading makes a few facts true) is scanned rather than hashed into.
-    fn holds_bound(&self, fact: Bound<'_>) -> bool {
+    fn holds_bound(&self, fact: Prehashed<'_>) -> bool {
         let in_small = |set: &Facts| match set.len() {
             0 => false,
-            1..=SCAN_AT_MOST => set.iter().any(|f| fact.equivalent(f)),
+            1..=SCAN_AT_MOST => set.iter().any(|f| fact.bound.equivalent(f)),
             _ => set.contains(&fact),
         };
         in_small(&self.added) || (self.base.facts.contains(&fact) && !in_small(&self.removed))
@@ -144,8 +144,8 @@ impl World {
             return found(subst);
         };
         // A literal the bindings make ground is one lookup, with no term built for it.
-        let bound = Bound { term: first, subst };
-        if bound.is_ground() {
+        let (bound, ground) = Bound { term: first, subst }.hashed();
+        if ground {
             return !self.holds_bound(bound) || self.solve(rest, subst, found);
         }
         let goal = first.substitute(subst);
