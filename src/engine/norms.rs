@@ -339,9 +339,8 @@ struct Rule {
     /// For a state rule, by position: the literals but that one. A new fact that matched the
     /// literal at a position holds already; only the others are left to solve.
     others: Vec<Vec<Term>>,
-    /// The note and the `when` facts, shared by every reason the norm gives.
+    /// The note, shared by every reason the norm gives.
     note: Option<Arc<str>>,
-    when: Arc<[Term]>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -362,47 +361,47 @@ pub struct CompiledNorms {
 }
 
 /// What a soft norm that counted was about, for the words of the reason: its `when` facts and
-/// the bindings under which they held (instantiated only for those that are spoken), and its
-/// note.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SoftMatch {
-    pub when: Arc<[Term]>,
-    pub solution: Subst,
-    pub note: Option<Arc<str>>,
+/// the bindings under which they held (borrowed for the moment the check hands it over, so that
+/// only the facts that are spoken are ever built), and its note.
+#[derive(Clone, Copy, Debug)]
+pub struct SoftMatch<'a> {
+    pub when: &'a [Term],
+    pub solution: &'a Subst,
+    pub note: Option<&'a Arc<str>>,
 }
 
 /// An action norm met: which norm, and the name it is about (spoken in refusals).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ActionViolation {
+#[derive(Clone, Copy, Debug)]
+pub struct ActionViolation<'a> {
     pub norm_id: i64,
     pub kind: NormKind,
     pub severity: u8,
-    pub name: Sym,
+    pub name: &'a Sym,
     /// Set for a soft norm only.
-    pub soft: Option<SoftMatch>,
+    pub soft: Option<SoftMatch<'a>>,
 }
 
 /// A state norm met by a state entered: which norm, and the fact (the norm's state,
 /// instantiated).
-#[derive(Clone, Debug, PartialEq)]
-pub struct StateViolation {
+#[derive(Clone, Debug)]
+pub struct StateViolation<'a> {
     pub norm_id: i64,
     pub kind: NormKind,
     pub severity: u8,
     pub fact: Term,
     /// Set for a soft norm only.
-    pub soft: Option<SoftMatch>,
+    pub soft: Option<SoftMatch<'a>>,
 }
 
 impl Rule {
     /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
     /// needs no words beyond its kind.
-    fn soft_match(&self, solution: &Subst) -> Option<SoftMatch> {
+    fn soft_match<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
         let spec = &self.norm.spec;
-        spec.kind.is_soft().then(|| SoftMatch {
-            when: self.when.clone(),
-            solution: solution.clone(),
-            note: self.note.clone(),
+        spec.kind.is_soft().then_some(SoftMatch {
+            when: &spec.when,
+            solution,
+            note: self.note.as_ref(),
         })
     }
 }
@@ -447,13 +446,11 @@ impl CompiledNorms {
                     .collect(),
             };
             let note = norm.spec.note.as_deref().map(Arc::from);
-            let when = Arc::from(norm.spec.when.as_slice());
             compiled.rules.push(Rule {
                 norm,
                 literals,
                 others,
                 note,
-                when,
             });
         }
         compiled
@@ -470,7 +467,13 @@ impl CompiledNorms {
     /// Action norms in force in `scope` that `action` meets in `world` (the world before the
     /// action), handed to `found` in id order: forbidden and discouraged ones it breaks,
     /// preferred ones it follows. A norm naming only an action (`destroy`) matches it at any arity.
-    pub fn check_action(&self, action: &Term, world: &World, scope: Scope<'_>, found: &mut dyn FnMut(ActionViolation)) {
+    pub fn check_action<'a>(
+        &'a self,
+        action: &'a Term,
+        world: &World,
+        scope: Scope<'_>,
+        found: &mut dyn FnMut(ActionViolation<'_>),
+    ) {
         let Some(name) = action.name() else { return };
         let Some(indices) = self.actions_by_name.get(name) else {
             return;
@@ -491,21 +494,16 @@ impl CompiledNorms {
             }
             let spec = &rule.norm.spec;
             // The first solution of `when` is enough; a soft norm's words name it.
-            let (mut met, mut soft) = (false, None);
             world.solve(&spec.when, &subst, &mut |solution| {
-                met = true;
-                soft = rule.soft_match(solution);
-                false
-            });
-            if met {
                 found(ActionViolation {
                     norm_id: rule.norm.id,
                     kind: spec.kind,
                     severity: spec.severity,
-                    name: name.clone(),
-                    soft,
+                    name,
+                    soft: rule.soft_match(solution),
                 });
-            }
+                false
+            });
         }
     }
 
@@ -519,7 +517,7 @@ impl CompiledNorms {
         new_facts: &[Term],
         world: &World,
         scope: Scope<'_>,
-        found: &mut dyn FnMut(StateViolation),
+        found: &mut dyn FnMut(StateViolation<'_>),
     ) {
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };

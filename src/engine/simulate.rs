@@ -251,32 +251,35 @@ fn repeated_argument(action: &Term) -> Option<Sym> {
 }
 
 /// The soft reason for a norm met by `what` in a simulation of `reading`. Its `when` facts are
-/// kept (instantiated) where they name one of the reading's objects and are not just that
-/// object's type: the facts a reason's words name.
-fn soft(scene: &Scene, reading: &Term, kind: NormKind, what: Term, found: SoftMatch) -> Cause {
+/// kept where they name one of the reading's objects and are not just that object's type: the
+/// facts a reason's words name, as the world holds them (a `when` fact held when it matched).
+fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term, found: SoftMatch<'_>) -> Cause {
     let objects = reading.args();
+    let subst = found.solution;
     // An argument as the bindings make it: an object's id, or another constant.
-    fn value<'a>(arg: &'a Term, subst: &'a Subst) -> &'a Term {
-        Bound { term: arg, subst }.resolved()
-    }
-    let spoken = |literal: &&Term| {
+    let value = |arg: &'_ Term| -> Term { Bound { term: arg, subst }.resolved().clone() };
+    let mut about = Vec::new();
+    for literal in found.when {
+        let names_one = literal
+            .args()
+            .iter()
+            .any(|arg| objects.contains(Bound { term: arg, subst }.resolved()));
         let its_type = match (literal.name(), literal.args()) {
-            (Some(name), [subject]) => (value(subject, &found.solution).name())
-                .and_then(|id| scene.object(id))
+            (Some(name), [subject]) => (value(subject).name())
+                .and_then(|id| env.scene.object(id))
                 .is_some_and(|o| o.kind == **name),
             _ => false,
         };
-        let names_one = |arg| objects.contains(value(arg, &found.solution));
-        literal.args().iter().any(names_one) && !its_type
-    };
-    let about = (found.when.iter().filter(spoken))
-        .map(|literal| literal.substitute(&found.solution))
-        .collect();
+        if names_one && !its_type {
+            let (key, _) = Bound { term: literal, subst }.hashed();
+            about.push(world.find(key).cloned().unwrap_or_else(|| literal.substitute(subst)));
+        }
+    }
     Cause::Soft {
         kind,
         what,
         about,
-        note: found.note,
+        note: found.note.cloned(),
     }
 }
 
@@ -327,10 +330,10 @@ impl Run<'_> {
         } = self;
         env.norms.check_action(action, world, env.scope, &mut |v| {
             let cause = match v.soft {
-                Some(found) => soft(env.scene, reading, v.kind, action.clone(), found),
+                Some(found) => soft(env, world, reading, v.kind, action.clone(), found),
                 None => Cause::ForbiddenAction {
                     step: action.clone(),
-                    name: v.name,
+                    name: v.name.clone(),
                 },
             };
             outcome.push(Reason {
@@ -352,7 +355,7 @@ impl Run<'_> {
         } = self;
         env.norms.check_entered(new_facts, world, env.scope, &mut |v| {
             let cause = match v.soft {
-                Some(found) => soft(env.scene, reading, v.kind, v.fact, found),
+                Some(found) => soft(env, world, reading, v.kind, v.fact, found),
                 None => Cause::ForbiddenState { fact: v.fact },
             };
             outcome.push(Reason {

@@ -94,6 +94,20 @@ impl World {
         in_small(&self.added) || (self.base.facts.contains(&fact) && !in_small(&self.removed))
     }
 
+    /// The fact a ground key stands for, as this world holds it; `None` if it does not hold.
+    pub fn find(&self, fact: Prehashed<'_>) -> Option<&Term> {
+        let in_added = match self.added.len() {
+            0 => None,
+            1..=SCAN_AT_MOST => self.added.iter().find(|f| fact.bound.equivalent(*f)),
+            _ => self.added.get(&fact),
+        };
+        if in_added.is_some() {
+            return in_added;
+        }
+        let found = self.base.facts.get(&fact)?;
+        (self.removed.is_empty() || !self.removed.contains(found)).then_some(found)
+    }
+
     /// Makes `fact` true; returns whether it was false before.
     pub fn assert(&mut self, fact: Term) -> bool {
         if self.holds(&fact) {
