@@ -597,7 +597,7 @@ impl Library {
 
     /// The verb definition for an action term, if the library knows that name at that arity.
     pub fn lookup(&self, action: &Term) -> Option<&ActionDef> {
-        self.get(action.name()?, action.arity())
+        self.defs.get(&(action.name()?.clone(), action.arity()))
     }
 
     /// Every verb, by name then arity.

@@ -478,23 +478,19 @@ impl CompiledNorms {
         let Some(indices) = self.actions_by_name.get(name) else {
             return;
         };
+        let mut matches = Matches::default();
         for &index in indices {
             let rule = &self.rules[index];
             if !rule.norm.applies_in(scope) {
                 continue;
             }
-            let pattern = &rule.norm.spec.term;
-            let mut subst = Subst::new();
-            let matched = match pattern {
-                Term::Const(_) => true,
-                _ => subst.unify_ground(pattern, action),
-            };
-            if !matched {
+            // A bare name (`destroy`) matches an action of that name at any arity.
+            let Some(subst) = matches.of(&rule.norm.spec.term, action, true) else {
                 continue;
-            }
+            };
             let spec = &rule.norm.spec;
             // The first solution of `when` is enough; a soft norm's words name it.
-            world.solve(&spec.when, &subst, &mut |solution| {
+            world.solve(&spec.when, subst, &mut |solution| {
                 found(ActionViolation {
                     norm_id: rule.norm.id,
                     kind: spec.kind,
@@ -521,6 +517,7 @@ impl CompiledNorms {
     ) {
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
+            let mut matches = Matches::default();
             let by_key = self.states_by_key.get(&(name.clone(), fact.arity()));
             let by_fact = self.states_by_fact.get(fact);
             // Norm-id order, whichever index found them: each list is in that order already, so
@@ -541,12 +538,11 @@ impl CompiledNorms {
                 if !rule.norm.applies_in(scope) {
                     continue;
                 }
-                let mut seed = Subst::new();
-                if !seed.unify_ground(&rule.literals[position], fact) {
+                let Some(seed) = matches.of(&rule.literals[position], fact, false) else {
                     continue;
-                }
+                };
                 let soft = rule.norm.spec.kind.is_soft();
-                world.solve(&rule.others[position], &seed, &mut |solution| {
+                world.solve(&rule.others[position], seed, &mut |solution| {
                     // Matched at the state itself, the state is the new fact: nothing to build.
                     let state = match position {
                         0 => fact.clone(),
@@ -563,6 +559,30 @@ impl CompiledNorms {
                 });
             }
         }
+    }
+}
+
+/// The bindings of each pattern matched against one term during one check. Norms of one verb
+/// or state often share their pattern (`get(X)`, `holding(self,X)`), and each is matched once.
+#[derive(Default)]
+struct Matches<'a> {
+    seen: smallvec::SmallVec<[(&'a Term, Option<Subst>); 4]>,
+}
+
+impl<'a> Matches<'a> {
+    /// The bindings under which `pattern` matches `term`; `None` when it does not. With
+    /// `any_arity`, a bare name matches whatever `term`'s arguments, binding nothing.
+    fn of(&mut self, pattern: &'a Term, term: &Term, any_arity: bool) -> Option<&Subst> {
+        let at = match self.seen.iter().position(|(seen, _)| *seen == pattern) {
+            Some(at) => at,
+            None => {
+                let mut subst = Subst::new();
+                let matched = (any_arity && matches!(pattern, Term::Const(_))) || subst.unify_ground(pattern, term);
+                self.seen.push((pattern, matched.then_some(subst)));
+                self.seen.len() - 1
+            }
+        };
+        self.seen[at].1.as_ref()
     }
 }
 

@@ -257,20 +257,19 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
     let objects = reading.args();
     let subst = found.solution;
     // An argument as the bindings make it: an object's id, or another constant.
-    let value = |arg: &'_ Term| -> Term { Bound { term: arg, subst }.resolved().clone() };
+    let value = |term| Bound { term, subst }.resolved();
     let mut about = Vec::new();
     for literal in found.when {
-        let names_one = literal
-            .args()
-            .iter()
-            .any(|arg| objects.contains(Bound { term: arg, subst }.resolved()));
+        if !literal.args().iter().any(|arg| objects.contains(value(arg))) {
+            continue;
+        }
         let its_type = match (literal.name(), literal.args()) {
             (Some(name), [subject]) => (value(subject).name())
                 .and_then(|id| env.scene.object(id))
                 .is_some_and(|o| o.kind == **name),
             _ => false,
         };
-        if names_one && !its_type {
+        if !its_type {
             let (key, _) = Bound { term: literal, subst }.hashed();
             about.push(world.find(key).cloned().unwrap_or_else(|| literal.substitute(subst)));
         }
@@ -285,7 +284,10 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
 
 /// `did(self,action)`: the paper's convention for "action is done".
 pub fn did(action: &Term) -> Term {
-    Term::compound("did", vec![Term::constant("self"), action.clone()])
+    // Built once per reading and step: the two names are looked up once per process.
+    static NAMES: std::sync::LazyLock<(Sym, Term)> =
+        std::sync::LazyLock::new(|| (Sym::new("did"), Term::constant("self")));
+    Term::Compound(NAMES.0.clone(), std::sync::Arc::from([NAMES.1.clone(), action.clone()]))
 }
 
 /// Everything a simulation reads; shared by all readings of a request.
