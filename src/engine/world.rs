@@ -30,7 +30,8 @@ fn key_of(term: &Term) -> Option<Key> {
 /// The facts of the scene, built once per request and shared by every reading.
 #[derive(Debug, Default)]
 pub struct Base {
-    facts: Facts,
+    /// Only asked whether a fact is in it, never iterated: a plain hash set, one probe away.
+    facts: hashbrown::HashSet<Term, FxBuildHasher>,
     /// Facts by functor, in the order the scene states them.
     index: FxHashMap<Key, Vec<Term>>,
 }
