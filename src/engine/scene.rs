@@ -508,14 +508,21 @@ pub fn spoken(name: &str) -> String {
 /// one buffer.
 pub fn spoken_into(name: &str, out: &mut String) {
     out.clear();
+    spoken_onto(name, out);
+}
+
+/// `spoken`, appended to `out`.
+pub fn spoken_onto(name: &str, out: &mut String) {
+    let start = out.len();
     let mut previous: Option<char> = None;
     for c in name.chars() {
+        let at_start = out.len() == start;
         if c == '_' {
-            if !out.ends_with(' ') && !out.is_empty() {
+            if !out.ends_with(' ') && !at_start {
                 out.push(' ');
             }
         } else if c.is_uppercase() {
-            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit()) && !out.ends_with(' ') {
+            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit()) && !out[start..].ends_with(' ') {
                 out.push(' ');
             }
             out.extend(c.to_lowercase());
@@ -524,7 +531,8 @@ pub fn spoken_into(name: &str, out: &mut String) {
         }
         previous = Some(c);
     }
-    out.truncate(out.trim_end().len());
+    let kept = start + out[start..].trim_end().len();
+    out.truncate(kept);
 }
 
 #[cfg(test)]
@@ -676,6 +684,12 @@ mod tests {
             ("dark_red", "dark red"),
         ] {
             assert_eq!(spoken(name), words);
+            let mut after = String::from("the ");
+            spoken_onto(name, &mut after);
+            assert_eq!(after, format!("the {words}"));
         }
+        let mut trailing = String::from("a ");
+        spoken_onto("_x_", &mut trailing);
+        assert_eq!(trailing, "a x");
     }
 }

@@ -9,7 +9,7 @@ use std::borrow::Cow;
 use super::decision::{Interpretation, Plan, Style, Unclear};
 use super::describe::Describer;
 use super::norms::Force;
-use super::scene::spoken;
+use super::scene::{spoken, spoken_onto};
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
 
@@ -365,12 +365,15 @@ fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<St
     let Cause::Soft { about, note, .. } = &reason.cause else {
         return None;
     };
-    let mut facts: Vec<String> = (about.iter()).filter_map(|fact| fact_words(fact, describer)).collect();
-    match facts.len() {
-        0 => note.as_deref().and_then(note_words),
-        1 => Some(facts.swap_remove(0)),
-        _ => Some(listed(&facts, "and")),
-    }
+    let mut facts = (about.iter()).filter_map(|fact| fact_words(fact, describer));
+    let Some(first) = facts.next() else {
+        return note.as_deref().and_then(note_words);
+    };
+    let Some(second) = facts.next() else {
+        return Some(first);
+    };
+    let all: Vec<String> = [first, second].into_iter().chain(facts).collect();
+    Some(listed(&all, "and"))
 }
 
 /// A norm's note as words inside a sentence. The note is the operator's text, stored as written;
@@ -404,17 +407,16 @@ fn note_words(note: &str) -> Option<String> {
 fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
     let functor = fact.name()?;
     let subject_id = fact.args().first()?.name()?;
-    let name = spoken(functor);
     let mut words = String::with_capacity(48);
     match fact.args() {
         [subject] => {
             describer.argument_into(subject, &mut words);
             words.push_str(" is ");
-            words.push_str(&name);
+            spoken_onto(functor, &mut words);
         }
         [subject, value] if describer.has_attribute(subject_id, functor) => {
             words.push_str("the ");
-            words.push_str(&name);
+            spoken_onto(functor, &mut words);
             words.push_str(" of ");
             describer.argument_into(subject, &mut words);
             words.push_str(" is ");
@@ -423,7 +425,7 @@ fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
         [subject, other] => {
             describer.argument_into(subject, &mut words);
             words.push_str(" is ");
-            words.push_str(&name);
+            spoken_onto(functor, &mut words);
             words.push(' ');
             describer.argument_into(other, &mut words);
         }
