@@ -434,10 +434,12 @@ impl indexmap::Equivalent<Term> for Bound<'_> {
 }
 
 /// Variable bindings. Small by construction (a norm has a handful of variables), so a vector,
-/// kept inline for the usual few: matching a norm against a step allocates nothing.
+/// kept inline for the usual one or two: matching a norm against a step allocates nothing, and
+/// at 96 bytes a substitution is moved without a call to `memcpy` (at three inline it was 136,
+/// and moving it was a tenth of what soft norms cost).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Subst {
-    bindings: smallvec::SmallVec<[(Sym, Term); 3]>,
+    bindings: smallvec::SmallVec<[(Sym, Term); 2]>,
 }
 
 impl Subst {
