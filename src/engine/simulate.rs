@@ -75,6 +75,15 @@ impl Reason {
         Reason::infeasible(Cause::Unfinished)
     }
 
+    /// A norm's reason: which norm, and its severity.
+    fn of_norm(cause: Cause, norm_id: i64, severity: u8) -> Reason {
+        Reason {
+            cause,
+            norm_id: Some(norm_id),
+            severity: Some(severity),
+        }
+    }
+
     fn infeasible(cause: Cause) -> Reason {
         Reason {
             cause,
@@ -323,13 +332,7 @@ impl Run<'_> {
     }
 
     fn check_action(&mut self, action: &Term) {
-        let Run {
-            env,
-            reading,
-            world,
-            outcome,
-            ..
-        } = self;
+        let (env, reading, world, outcome) = (self.env, self.reading, &self.world, &mut self.outcome);
         env.norms.check_action(action, world, env.scope, &mut |v| {
             let cause = match v.soft {
                 Some(found) => soft(env, world, reading, v.kind, action.clone(), found),
@@ -338,33 +341,19 @@ impl Run<'_> {
                     name: v.name.clone(),
                 },
             };
-            outcome.push(Reason {
-                cause,
-                norm_id: Some(v.norm_id),
-                severity: Some(v.severity),
-            });
+            outcome.push(Reason::of_norm(cause, v.norm_id, v.severity));
         });
     }
 
     /// State norms the world meets because of `new_facts`, just made true in it.
     fn check_entered(&mut self, new_facts: &[Term]) {
-        let Run {
-            env,
-            reading,
-            world,
-            outcome,
-            ..
-        } = self;
+        let (env, reading, world, outcome) = (self.env, self.reading, &self.world, &mut self.outcome);
         env.norms.check_entered(new_facts, world, env.scope, &mut |v| {
             let cause = match v.soft {
                 Some(found) => soft(env, world, reading, v.kind, v.fact, found),
                 None => Cause::ForbiddenState { fact: v.fact },
             };
-            outcome.push(Reason {
-                cause,
-                norm_id: Some(v.norm_id),
-                severity: Some(v.severity),
-            });
+            outcome.push(Reason::of_norm(cause, v.norm_id, v.severity));
         });
     }
 
