@@ -201,6 +201,36 @@ mod tests {
     }
 
     #[test]
+    fn threads_interning_one_text_at_once_get_one_symbol() {
+        // Each thread interns the same texts while dropping transient ones (so sweeps run
+        // meanwhile); every thread must end up with the very same allocation per text.
+        let texts: Vec<String> = (0..64).map(|i| format!("shared-{i}")).collect();
+        let per_thread: Vec<Vec<Sym>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..4)
+                .map(|t| {
+                    let texts = &texts;
+                    scope.spawn(move || {
+                        let mut held = Vec::new();
+                        for (i, text) in texts.iter().enumerate() {
+                            for j in 0..200 {
+                                drop(Sym::new(&format!("churn-{t}-{i}-{j}")));
+                            }
+                            held.push(Sym::new(text));
+                        }
+                        held
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for syms in &per_thread[1..] {
+            for (a, b) in per_thread[0].iter().zip(syms) {
+                assert!(Arc::ptr_eq(&a.0, &b.0), "{a} was interned twice");
+            }
+        }
+    }
+
+    #[test]
     fn names_nobody_holds_are_swept_and_held_ones_survive() {
         let held = Sym::new("held-across-sweeps");
         // Far more unique names than any shard's floor, each dropped at once, as a stream of
