@@ -6,6 +6,7 @@
 use std::future::Future;
 use std::net::SocketAddr;
 use std::sync::Arc;
+use std::time::Duration;
 
 use tokio::net::TcpListener;
 
@@ -14,7 +15,7 @@ use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetReques
 use tower_http::trace::TraceLayer;
 
 use crate::core::Core;
-use crate::core::{RequestLimits, Settings};
+use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
 use crate::error::Error;
 use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
@@ -49,6 +50,9 @@ pub struct Config {
     pub tls: Option<TlsFiles>,
     /// Connection limits and timeouts, and the drain deadline.
     pub connections: ConnConfig,
+    /// How long the stored versions are trusted before they are read again; every write waits
+    /// it out before it is acknowledged (see `Settings::lease`).
+    pub lease: Duration,
 }
 
 impl Config {
@@ -66,6 +70,7 @@ impl Config {
             log_utterances: false,
             tls: None,
             connections: ConnConfig::default(),
+            lease: Duration::from_millis(DEFAULT_LEASE_MS),
         }
     }
 }
@@ -116,6 +121,11 @@ impl Application {
             return Err(StartError::Config("--max-concurrent must be at least 1".to_owned()));
         }
         config.connections.check().map_err(StartError::Config)?;
+        if config.lease > Duration::from_millis(MAX_LEASE_MS) {
+            return Err(StartError::Config(format!(
+                "--versions-lease-ms must be at most {MAX_LEASE_MS} (every write waits it out)"
+            )));
+        }
         // Before the store, so that bad certificate files fail fast and touch nothing.
         let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
@@ -127,6 +137,7 @@ impl Application {
                 Settings {
                     limits: config.limits,
                     log_utterances: config.log_utterances,
+                    lease: config.lease,
                 },
             )),
             tokens: Arc::new(tokens),

@@ -11,7 +11,8 @@ use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
 use scruple::app::{Application, Config, DEFAULT_MAX_BODY_BYTES, Secret};
 use scruple::core::{
-    DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES, RequestLimits,
+    DEFAULT_DEADLINE_MS, DEFAULT_LEASE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES,
+    MAX_LEASE_MS, RequestLimits,
 };
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
 use scruple::offline::{self, Failure, Sources, Summary};
@@ -269,6 +270,14 @@ struct ServeArgs {
     /// debug). Off by default: they are personal data.
     #[arg(long, env = "SCRUPLE_LOG_UTTERANCES")]
     log_utterances: bool,
+    /// Milliseconds a read of the stored norm and verb versions is trusted before it is read
+    /// again (at most 20 reads a second per process at the default). Every write waits this
+    /// long, and a tenth more, after it commits before it is acknowledged, so a change is still
+    /// seen by every request that starts after its acknowledgement, on every process sharing
+    /// the database. 0 reads them for every request and acknowledges writes at once.
+    #[arg(long, env = "SCRUPLE_VERSIONS_LEASE_MS", default_value_t = DEFAULT_LEASE_MS,
+          value_parser = clap::value_parser!(u64).range(0..=MAX_LEASE_MS))]
+    versions_lease_ms: u64,
     /// Serve REST and gRPC over TLS (ALPN h2 and http/1.1) with this PEM certificate chain,
     /// server certificate first. Renewed files are taken up within seconds, without a restart.
     #[arg(long, env = "SCRUPLE_TLS_CERT", value_name = "FILE", requires = "tls_key")]
@@ -327,6 +336,7 @@ impl ServeArgs {
                 queue_timeout: Duration::from_millis(self.queue_timeout_ms),
             },
             log_utterances: self.log_utterances,
+            lease: Duration::from_millis(self.versions_lease_ms),
             tls: match (self.tls_cert, self.tls_key) {
                 (Some(cert), Some(key)) => Some(TlsFiles { cert, key }),
                 // clap requires each with the other.

@@ -170,7 +170,11 @@ pub struct AuditEntry {
 /// audit entry: a write is all three or nothing.
 #[async_trait]
 pub trait NormStore: Send + Sync + 'static {
-    /// The current norm-set and action-set versions: one cheap read, made before each decision.
+    /// Whether the store is still the one opened (for SQLite, that the path still names the
+    /// file opened): a `stat` at most, no query, so it can be asked on every request.
+    fn still_there(&self) -> Result<(), StoreError>;
+    /// The current norm-set and action-set versions: one cheap read, made whenever a lease on
+    /// them has run out.
     async fn versions(&self) -> Result<Versions, StoreError>;
     /// Every norm and the version they make up, read in one snapshot, by ascending id.
     async fn load(&self) -> Result<(i64, Vec<Norm>), StoreError>;

@@ -295,6 +295,10 @@ impl<B: Backend> SqlStore<B> {
 
 #[async_trait]
 impl<B: Backend> NormStore for SqlStore<B> {
+    fn still_there(&self) -> Result<(), StoreError> {
+        self.backend.still_there()
+    }
+
     async fn versions(&self) -> Result<Versions, StoreError> {
         self.backend.still_there()?;
         self.backend.versions().await

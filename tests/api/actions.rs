@@ -417,6 +417,7 @@ async fn an_unreadable_verb_in_the_store_fails_closed() {
         .execute(&mut connection)
         .await
         .unwrap();
+    crate::helpers::after_the_lease().await;
     assert_problem(
         app.post("/v1/clarify", &request("get", &["mug"], lab_scene())).await,
         StatusCode::SERVICE_UNAVAILABLE,

@@ -20,6 +20,7 @@ async fn tamper(app: &crate::helpers::TestApp, sql: &str) {
         .await
         .expect("tamper");
     connection.close().await.unwrap();
+    crate::helpers::after_the_lease().await;
 }
 
 #[tokio::test]

@@ -58,6 +58,14 @@ pub async fn spawn_with(options: Options) -> TestApp {
     spawn_on(dir, options).await
 }
 
+/// Waits as a write through the service does before its answer: a change made behind the
+/// service's back (by hand, on the file) is seen once the lease on the stored versions taken
+/// before it has run out, not before.
+pub async fn after_the_lease() {
+    let lease = std::time::Duration::from_millis(scruple::core::DEFAULT_LEASE_MS);
+    tokio::time::sleep(lease + scruple::core::lease_margin(lease)).await;
+}
+
 /// Runs `sql` straight on a stopped server's SQLite file, as an older build or a hand edit
 /// would have left it; `Err` is the database's refusal.
 pub async fn raw_sql_on(db_path: &std::path::Path, sql: &'static str) -> Result<(), sqlx::Error> {
@@ -252,5 +260,41 @@ impl Served {
             }
             tokio::time::sleep(std::time::Duration::from_millis(50)).await;
         }
+    }
+}
+
+/// Asks `get_vase` at `base` in a loop until dropped, so that the server always holds a fresh
+/// lease on the stored versions: the condition under which a stale one would show.
+pub struct KeepAsking {
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    task: Option<tokio::task::JoinHandle<u64>>,
+}
+
+impl KeepAsking {
+    pub fn at(base: &str) -> KeepAsking {
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let (flag, url, client) = (stop.clone(), format!("{base}/v1/clarify"), http_client());
+        let task = tokio::spawn(async move {
+            let mut asked = 0;
+            while !flag.load(std::sync::atomic::Ordering::Relaxed) {
+                let response = client.post(&url).json(&get_vase()).send().await.expect("asked");
+                assert_eq!(response.status(), StatusCode::OK);
+                asked += 1;
+            }
+            asked
+        });
+        KeepAsking { stop, task: Some(task) }
+    }
+
+    /// Stops asking; how many answers came meanwhile (so a test can tell the load was there).
+    pub async fn stop(mut self) -> u64 {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        self.task.take().expect("running").await.expect("the asking task")
+    }
+}
+
+impl Drop for KeepAsking {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
 }

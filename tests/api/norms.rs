@@ -4,7 +4,7 @@
 use reqwest::StatusCode;
 use serde_json::{Value, json};
 
-use crate::helpers::{Options, assert_problem, get_vase, spawn_app, spawn_on};
+use crate::helpers::{KeepAsking, Options, assert_problem, get_vase, spawn_app, spawn_on};
 
 #[tokio::test]
 async fn a_norm_is_stored_canonical_listed_fetched_and_deleted() {
@@ -104,6 +104,30 @@ async fn a_change_on_one_process_is_seen_by_the_very_next_request_on_another() {
     let answer = one.clarify(&get_vase()).await;
     assert_eq!(answer["decision"], "ask");
     assert_eq!(answer["norm_version"], 2);
+}
+
+/// The lease on the stored versions never hides an acknowledged change: the other process
+/// answers a steady stream of requests (so its lease is always fresh), and each change made
+/// through one is enforced by the other's first request after the acknowledgement, every time.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn every_acknowledged_change_is_seen_at_once_by_a_busy_other_process() {
+    let one = spawn_app().await;
+    let other = spawn_on(one.dir.clone(), Options::default()).await;
+    let busy = KeepAsking::at(&other.base);
+    for round in 0..25 {
+        let id = one
+            .add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+            .await;
+        let answer = other.clarify(&get_vase()).await;
+        assert_eq!(answer["decision"], "assume", "round {round}: {answer}");
+        assert_eq!(
+            one.delete(&format!("/v1/norms/{id}")).await.status(),
+            StatusCode::NO_CONTENT
+        );
+        let answer = other.clarify(&get_vase()).await;
+        assert_eq!(answer["decision"], "ask", "round {round}: {answer}");
+    }
+    assert!(busy.stop().await > 50, "the other process was kept busy");
 }
 
 #[tokio::test]

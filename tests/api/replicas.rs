@@ -8,7 +8,7 @@ use reqwest::StatusCode;
 use serde_json::{Value, json};
 
 use crate::backends::PgDatabase;
-use crate::helpers::{Served, get_vase, serve_binary};
+use crate::helpers::{KeepAsking, Served, get_vase, serve_binary};
 
 struct Replica {
     served: Served,
@@ -89,6 +89,36 @@ async fn a_change_through_one_replica_is_enforced_by_the_other_on_its_next_reque
         .unwrap();
     assert_eq!(audit_a, audit_b);
     assert_eq!(audit_a["entries"].as_array().unwrap().len(), 2);
+    a.stop();
+    b.stop();
+}
+
+/// The lease on the stored versions, across replicas: B is kept busy (its lease always fresh),
+/// and every change acknowledged by A is enforced by B's first request after it.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn every_change_acknowledged_by_one_replica_is_seen_at_once_by_a_busy_other() {
+    let database = PgDatabase::create().await;
+    let a = Replica::start(&database.url);
+    let b = Replica::start(&database.url);
+    let client = crate::helpers::http_client();
+    let busy = KeepAsking::at(&b.base);
+    for round in 0..20 {
+        let created = client
+            .post(format!("{}/v1/norms", a.base))
+            .json(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(created.status(), StatusCode::CREATED);
+        let id = created.json::<Value>().await.unwrap()["id"].as_i64().unwrap();
+        let decided = b.decide(&client).await;
+        assert_eq!(decided["decision"], "assume", "round {round}: {decided}");
+        let deleted = client.delete(format!("{}/v1/norms/{id}", a.base)).send().await.unwrap();
+        assert_eq!(deleted.status(), StatusCode::NO_CONTENT);
+        let decided = b.decide(&client).await;
+        assert_eq!(decided["decision"], "ask", "round {round}: {decided}");
+    }
+    assert!(busy.stop().await > 40, "B was kept busy");
     a.stop();
     b.stop();
 }

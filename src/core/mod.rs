@@ -1,14 +1,19 @@
 //! The one internal API every transport calls: norms in and out of the store, and decisions made
 //! under the current norm set.
 //!
-//! Owns: the request limits, the deadline, the decision log, the knowledge a decision is made
-//! under (the store's, cached and refreshed only when a stored version moves, or fixed for the
-//! offline CLI) and failing closed when it cannot be read. Must not: know a wire format or which
-//! transport (or command) asked.
+//! Owns: the request limits, the deadline, the decision log, and (in `knowledge`) what a
+//! decision is made under: the store's, cached, trusted for a lease and refreshed only when a
+//! stored version moves, or fixed for the offline CLI; failing closed when it cannot be read.
+//! Must not: know a wire format or which transport (or command) asked.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 use std::time::{Duration, Instant};
+
+mod knowledge;
+
+pub use knowledge::{DEFAULT_LEASE_MS, Knowledge, MAX_LEASE_MS, lease_margin};
+use knowledge::{Leased, Readiness, Source};
 
 use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
@@ -23,31 +28,32 @@ use crate::engine::request::{Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
 use crate::error::Error;
-use crate::metrics::{Cache, DecisionLabels, Metrics, Outcome};
+use crate::metrics::{DecisionLabels, Metrics};
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
-/// What one request may ask, and whether the human's words may be logged.
-#[derive(Clone, Copy, Debug, Default)]
+/// What one request may ask, whether the human's words may be logged, and how long the stored
+/// versions are trusted.
+#[derive(Clone, Copy, Debug)]
 pub struct Settings {
     pub limits: RequestLimits,
     /// Whether the human's words, the speaker and the robot's answer may be logged (off by
     /// default: they are personal data).
     pub log_utterances: bool,
+    /// How long a read of the stored versions is trusted, on this process's monotonic clock,
+    /// counted from before the read began; every write waits it out (plus [`lease_margin`])
+    /// after its commit before it is acknowledged. Zero: read them for every request, and
+    /// acknowledge writes at once.
+    pub lease: Duration,
 }
 
-/// What decisions are made under: one compiled norm set and one action library.
-#[derive(Clone, Debug)]
-pub struct Knowledge {
-    pub norms: Arc<CompiledNorms>,
-    pub library: Arc<Library>,
-}
-
-/// Where a core's norms and verbs come from.
-enum Source {
-    /// The store, re-read whenever its stored versions move (by any process sharing it).
-    Store(Arc<dyn NormStore>),
-    /// Fixed for the core's life: the offline CLI's, from a store read once or from files.
-    Fixed(Knowledge),
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            limits: RequestLimits::default(),
+            log_utterances: false,
+            lease: Duration::from_millis(DEFAULT_LEASE_MS),
+        }
+    }
 }
 
 /// The most steps one reading of the directive may expand to: its verb's, or, for words not
@@ -119,19 +125,6 @@ fn stop_signal(deadline: Instant) -> (CancelOnDrop, impl Fn() -> bool + Send + S
 /// Longest wait for a turn at a costly simulation before the request is refused as overload.
 const COSTLY_WAIT: Duration = Duration::from_millis(100);
 
-/// How far past a request's deadline it may wait for the norms and verbs before it is overload.
-const KNOWLEDGE_GRACE: Duration = Duration::from_millis(100);
-
-/// How long the last read of the knowledge may stand for readiness; past it, readiness says the
-/// store has stopped answering (a probe refreshes it every second when no request does).
-const READINESS_STALE: Duration = Duration::from_secs(10);
-
-/// The outcome of the last read of what a decision needs, and when it ended.
-struct Readiness {
-    at: Instant,
-    outcome: Result<(), String>,
-}
-
 pub struct Core {
     source: Source,
     settings: Settings,
@@ -140,28 +133,15 @@ pub struct Core {
     readiness: std::sync::Mutex<Option<Readiness>>,
     /// Turns for costly simulations (see `costly_turn`): one per core.
     costly: Arc<tokio::sync::Semaphore>,
+    /// The knowledge of the last versions read, while its lease holds.
+    lease: RwLock<Option<Leased>>,
+    /// Held by the one request that reads the versions when the lease has run out; the others
+    /// wait for its read instead of each making their own.
+    refreshing: tokio::sync::Mutex<()>,
     /// The last norm set compiled, tagged with the store version it was compiled from.
     compiled: RwLock<Option<Arc<CompiledNorms>>>,
     /// The last action library loaded, likewise tagged.
     library: RwLock<Option<Arc<Library>>>,
-}
-
-/// Keeps the newer of two values refreshed concurrently.
-fn keep_newer<T>(slot: &RwLock<Option<Arc<T>>>, fresh: &Arc<T>, version: impl Fn(&T) -> i64) -> Result<(), Error> {
-    let mut slot = slot.write().map_err(|_| poisoned())?;
-    if slot.as_ref().is_none_or(|c| version(c) <= version(fresh)) {
-        *slot = Some(fresh.clone());
-    }
-    Ok(())
-}
-
-fn cached<T>(slot: &RwLock<Option<Arc<T>>>, version: i64, of: impl Fn(&T) -> i64) -> Result<Option<Arc<T>>, Error> {
-    Ok(slot
-        .read()
-        .map_err(|_| poisoned())?
-        .as_ref()
-        .filter(|c| of(c) == version)
-        .cloned())
 }
 
 impl Core {
@@ -181,6 +161,8 @@ impl Core {
             source,
             settings,
             metrics,
+            lease: RwLock::new(None),
+            refreshing: tokio::sync::Mutex::new(()),
             compiled: RwLock::new(None),
             library: RwLock::new(None),
             readiness: std::sync::Mutex::new(None),
@@ -188,119 +170,6 @@ impl Core {
                 std::thread::available_parallelism().map_or(2, usize::from),
             )),
         }
-    }
-
-    /// Whether a decision can be made now: the outcome of the last read of the norms and verbs
-    /// (by a request, or by [`Core::probe`]), without reading anything itself.
-    pub fn readiness(&self) -> Result<(), Error> {
-        let last = self.readiness.lock().map_err(|_| poisoned())?;
-        match &*last {
-            None => Err(Error::NormsUnavailable("the norms have not been read yet".to_owned())),
-            Some(r) if r.at.elapsed() > READINESS_STALE => Err(Error::NormsUnavailable(format!(
-                "the norm store has not answered for {} s",
-                r.at.elapsed().as_secs()
-            ))),
-            Some(r) => r.outcome.clone().map_err(Error::NormsUnavailable),
-        }
-    }
-
-    /// Reads the knowledge as a decision would, unless a request did within `max_age`: keeps
-    /// readiness current when no request comes.
-    pub async fn probe(&self, max_age: Duration) {
-        let fresh = self
-            .readiness
-            .lock()
-            .map(|last| last.as_ref().is_some_and(|r| r.at.elapsed() < max_age))
-            .unwrap_or(false);
-        if !fresh {
-            let _ = self.knowledge_for(None).await;
-        }
-    }
-
-    fn note_readiness(&self, outcome: &Result<Knowledge, Error>) {
-        // A read that could not get a connection in time says nothing about the store.
-        if matches!(outcome, Err(Error::Overloaded { .. })) {
-            return;
-        }
-        if let Ok(mut last) = self.readiness.lock() {
-            *last = Some(Readiness {
-                at: Instant::now(),
-                outcome: outcome.as_ref().map(|_| ()).map_err(|e| match e {
-                    Error::NormsUnavailable(detail) => detail.clone(),
-                    other => other.to_string(),
-                }),
-            });
-        }
-    }
-
-    /// The norms and the verbs in force now: one versions read per call; a reload only of what
-    /// another write (from this process or any other sharing the store) has changed.
-    pub async fn knowledge(&self) -> Result<Knowledge, Error> {
-        self.knowledge_for(Some(&self.metrics)).await
-    }
-
-    /// The knowledge, if it can be had before `deadline`; a store too busy to answer by then is
-    /// overload (503 with Retry-After), so a decision is never answered late for want of it.
-    async fn knowledge_by(&self, deadline: Instant) -> Result<Knowledge, Error> {
-        // A little past the deadline, so that a request whose deadline is (nearly) spent still
-        // gets its answer with `limits` when the store is quick, as it is unless overloaded.
-        tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), self.knowledge())
-            .await
-            .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }))
-    }
-
-    /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
-    async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
-        let outcome = self.read_knowledge(metrics).await;
-        self.note_readiness(&outcome);
-        outcome
-    }
-
-    async fn read_knowledge(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
-        let count = |cache, outcome| {
-            if let Some(m) = metrics {
-                m.cache(cache, outcome);
-            }
-        };
-        let store = match &self.source {
-            Source::Fixed(knowledge) => return Ok(knowledge.clone()),
-            Source::Store(store) => store,
-        };
-        // Waiting for a connection is overload, never "norms unavailable".
-        let unavailable = |e: crate::storage::StoreError| e.answer(Error::NormsUnavailable);
-        let versions = store.versions().await.map_err(unavailable)?;
-        let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
-            Some(norms) => {
-                count(Cache::Norms, Outcome::Hit);
-                norms
-            }
-            None => {
-                count(Cache::Norms, Outcome::Refresh);
-                let (version, norms) = store.load().await.map_err(unavailable)?;
-                let fresh = Arc::new(CompiledNorms::compile(version, norms));
-                keep_newer(&self.compiled, &fresh, |c| c.version)?;
-                fresh
-            }
-        };
-        let library = match cached(&self.library, versions.actions, |l| l.version)? {
-            Some(library) => {
-                count(Cache::Library, Outcome::Hit);
-                library
-            }
-            None => {
-                count(Cache::Library, Outcome::Refresh);
-                let (version, verbs) = store.load_actions().await.map_err(unavailable)?;
-                let fresh = Library::from_written(version, &verbs)
-                    .and_then(|library| library.check_words("").map(|()| library))
-                    .map_err(|(name, e)| {
-                        Error::NormsUnavailable(format!("the stored verb `{name}` is invalid: {e}"))
-                    })?;
-                let fresh = Arc::new(fresh);
-                keep_newer(&self.library, &fresh, |l| l.version)?;
-                fresh
-            }
-        };
-        Ok(Knowledge { norms, library })
     }
 
     /// The store, for curation; a core over fixed knowledge has none.
@@ -428,7 +297,8 @@ impl Core {
     /// valid. `given_id`: the id the request carried, which must be none.
     pub async fn create_norm(&self, given_id: Option<i64>, input: NormInput, actor: &str) -> Result<Norm, Error> {
         let spec = norm_to_create(given_id, input)?;
-        Ok(self.store()?.create(&spec, actor).await?)
+        let norm = self.store()?.create(&spec, actor).await?;
+        Ok(self.settled(norm).await)
     }
 
     pub async fn list_norms(&self) -> Result<Vec<Norm>, Error> {
@@ -459,11 +329,13 @@ impl Core {
             ));
         }
         let spec = input.validate()?;
-        written(id, expected, self.store()?.replace(id, &spec, expected, actor).await?)
+        let write = self.store()?.replace(id, &spec, expected, actor).await?;
+        written(id, expected, self.settled_write(write).await)
     }
 
     pub async fn delete_norm(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<(), Error> {
-        written(id, expected, self.store()?.delete(id, expected, actor).await?)
+        let write = self.store()?.delete(id, expected, actor).await?;
+        written(id, expected, self.settled_write(write).await)
     }
 
     /// The whole norm set and its version, for backups and review.
@@ -482,7 +354,8 @@ impl Core {
         actor: &str,
     ) -> Result<(i64, Vec<Norm>), Error> {
         let norms = validate_norm_set(inputs)?;
-        match self.store()?.import(&norms, expected, actor).await? {
+        let write = self.store()?.import(&norms, expected, actor).await?;
+        match self.settled_write(write).await {
             Write::Done(set) => Ok(set),
             Write::Missing => Err(Error::Internal("the norm set row is missing".to_owned())),
             Write::Stale { current } => Err(Error::Stale {
@@ -544,11 +417,12 @@ impl Core {
                 })
         };
         let created = self.store()?.put_action(name, &written, &accept, actor).await??;
-        Ok((written, created))
+        Ok((written, self.settled(created).await))
     }
 
     pub async fn delete_action(&self, name: &str, actor: &str) -> Result<(), Error> {
         if self.store()?.delete_action(name, actor).await? {
+            self.settled(()).await;
             Ok(())
         } else {
             Err(Error::NotFound {
