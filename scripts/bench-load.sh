@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
-# Load benchmark: the release server under wrk (REST) and h2load (gRPC) on the paper's
-# "Get the vase.", beside a floor (examples/floor.rs: same request/response types, no engine),
-# at concurrency 1, 16 and 64; RSS sampled under load. Prints a Markdown table for BENCHMARKS.md.
-# Installs wrk and h2load (Debian's nghttp2-client) when missing. Traffic stays on 127.0.0.1.
+# Load benchmark: the release server under wrk (REST, the directive sent structured and sent as
+# text) and h2load (gRPC) on the paper's "Get the vase.", beside a floor (examples/floor.rs: same
+# request/response types, no engine), at each concurrency of $CONCURRENCY (default "1 16 64").
+# Each row is $ROUNDS rounds (default 3) of Scruple then the floor, in turn; it shows the medians
+# and the median of the rounds' ratios. RSS sampled under load. Prints a Markdown table for
+# BENCHMARKS.md. Installs wrk and h2load (Debian's nghttp2-client) when missing. Traffic stays on
+# 127.0.0.1. $SCRUPLE_BIN names another server binary to measure (default the release build).
 # Usage: scripts/bench-load.sh [SECONDS per run, default 10]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib.sh
 seconds=${1:-10}
+rounds=${ROUNDS:-3}
+concurrency=${CONCURRENCY:-1 16 64}
 if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
   apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
 fi
@@ -24,7 +29,7 @@ start() { # name, command...: starts a server, echoes its address
   echo $! >"$work/$name.pid"
   listening_addr "$work/$name.out" || true
 }
-scruple=$(start scruple target/release/scruple serve --listen 127.0.0.1:0 --database-url "sqlite://$work/bench.db")
+scruple=$(start scruple "${SCRUPLE_BIN:-target/release/scruple}" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/bench.db")
 floor=$(start floor target/release/examples/floor 127.0.0.1:0)
 python3 - "$scruple" "$work" <<'PY'
 import json, sys, urllib.request
@@ -32,26 +37,32 @@ addr, work = sys.argv[1], sys.argv[2]
 demo = json.load(open("../shared/scenarios/paper-demo.json"))
 for norm in demo["norms"]:
     urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
-body = {"directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}, "scene": demo["scenes"]["lab"]}
-open(f"{work}/body.json", "w").write(json.dumps(body))
-answer = json.load(urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/clarify", json.dumps(body).encode(), {"content-type": "application/json"})))
-assert answer["decision"] == "assume", answer
+bodies = {
+    "structured": {"directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}, "scene": demo["scenes"]["lab"]},
+    "text": {"directive": {"text": "Get the vase."}, "scene": demo["scenes"]["lab"]},
+}
+for name, body in bodies.items():
+    open(f"{work}/{name}.json", "w").write(json.dumps(body))
+    answer = json.load(urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/clarify", json.dumps(body).encode(), {"content-type": "application/json"})))
+    assert answer["decision"] == "assume", answer
 PY
 target/release/examples/grpc_body "$work/body.grpc"
-cat >"$work/post.lua" <<LUA
+for body in structured text; do
+  cat >"$work/$body.lua" <<LUA
 wrk.method = "POST"
 wrk.headers["content-type"] = "application/json"
-local f = io.open("$work/body.json"); wrk.body = f:read("*a"); f:close()
+local f = io.open("$work/$body.json"); wrk.body = f:read("*a"); f:close()
 LUA
+done
 
 rss_peak() { # pid: samples VmRSS every 0.2 s into $work/rss.<pid> until killed
   while kill -0 "$1" 2>/dev/null; do awk '/VmRSS/ {print $2}' "/proc/$1/status" >>"$work/rss.$1" 2>/dev/null || true; sleep 0.2; done
 }
 rss_peak "$(cat "$work/scruple.pid")" & pids+=($!)
 
-wrk_run() { # addr, concurrency -> "rps p50 p99 errors"
+wrk_run() { # addr, concurrency, body -> "rps p50 p99 errors"
   local threads=$(( $2 < 2 ? 1 : 2 ))
-  wrk -t"$threads" -c"$2" -d"${seconds}s" --latency -s "$work/post.lua" "http://$1/v1/clarify" >"$work/wrk.txt"
+  wrk -t"$threads" -c"$2" -d"${seconds}s" --latency -s "$work/$3.lua" "http://$1/v1/clarify" >"$work/wrk.txt"
   python3 - "$work/wrk.txt" <<'PY'
 import re, sys
 text = open(sys.argv[1]).read()
@@ -69,9 +80,9 @@ print(f"{rps:.0f} {p50:.2f} {p99:.2f} {errors}")
 PY
 }
 
-echo "| transport | concurrency | Scruple req/s | floor req/s | ratio | Scruple p50 ms | Scruple p99 ms | floor p99 ms | errors |"
-echo "|---|---|---|---|---|---|---|---|---|"
-h2_run() { # addr, concurrency -> "rps p50 p99 failed"
+echo "| transport | concurrency | Scruple req/s | floor req/s | ratio (median of $rounds) | Scruple p50 ms | Scruple p99 ms | floor p99 ms | p99 ratio | errors |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+h2_run() { # addr, concurrency, (unused) -> "rps p50 p99 failed"
   h2load -D "$seconds" -c "$2" -m 1 -H 'content-type: application/grpc' -H 'te: trailers' \
     --log-file "$work/h2.log" -d "$work/body.grpc" "http://$1/scruple.v1.Clarifier/Clarify" >"$work/h2.txt"
   python3 - "$work/h2.txt" "$work/h2.log" <<'PY'
@@ -84,16 +95,27 @@ pick = lambda q: durations[min(len(durations) - 1, int(q * len(durations)))] / 1
 print(f"{rps:.0f} {pick(0.50):.2f} {pick(0.99):.2f} {failed}")
 PY
 }
-compare() { # label, runner: one table row per concurrency, Scruple beside the floor
-  for c in 1 16 64; do
-    read -r s_rps s_p50 s_p99 s_err <<<"$("$2" "$scruple" "$c")"
-    read -r f_rps _ f_p99 f_err <<<"$("$2" "$floor" "$c")"
-    ratio=$(python3 -c "print(f'{$s_rps / $f_rps:.2f}')")
-    echo "| $1 | $c | $s_rps | $f_rps | $ratio | $s_p50 | $s_p99 | $f_p99 | $((s_err + f_err)) |"
+compare() { # label, runner, body: one row per concurrency, Scruple and the floor in turn
+  for c in $concurrency; do
+    : >"$work/rounds"
+    for _ in $(seq 1 "$rounds"); do
+      echo "$("$2" "$scruple" "$c" "$3") $("$2" "$floor" "$c" "$3")" >>"$work/rounds"
+    done
+    python3 - "$1" "$c" "$work/rounds" <<'PY'
+import statistics as st, sys
+label, c, path = sys.argv[1], sys.argv[2], sys.argv[3]
+rows = [list(map(float, line.split())) for line in open(path)]
+med = lambda i: st.median(r[i] for r in rows)
+ratio = st.median(r[0] / r[4] for r in rows)
+p99_ratio = st.median(r[2] / r[6] if r[6] else float("inf") for r in rows)
+errors = int(sum(r[3] + r[7] for r in rows))
+print(f"| {label} | {c} | {med(0):.0f} | {med(4):.0f} | {ratio:.2f} | {med(1):.2f} | {med(2):.2f} | {med(6):.2f} | {p99_ratio:.2f} | {errors} |")
+PY
   done
 }
-compare "REST (wrk)" wrk_run
-compare "gRPC (h2load)" h2_run
+compare "REST (wrk), structured" wrk_run structured
+compare "REST (wrk), as text" wrk_run text
+compare "gRPC (h2load)" h2_run structured
 peak=$(sort -n "$work/rss.$(cat "$work/scruple.pid")" | tail -1)
 echo
 echo "Scruple peak RSS under load: $((peak / 1024)) MiB ($peak KiB)."

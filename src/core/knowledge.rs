@@ -194,7 +194,11 @@ impl Core {
             Source::Fixed(knowledge) => return Ok(knowledge.clone()),
             Source::Store(store) => store,
         };
-        let _only_reader = self.refreshing.lock().await;
+        // Without a lease every request reads for itself, as many at once as the pool allows.
+        let _only_reader = match self.settings.lease.is_zero() {
+            true => None,
+            false => Some(self.refreshing.lock().await),
+        };
         if read == Read::UnlessLeased
             && let Some(knowledge) = self.leased(metrics)?
         {
