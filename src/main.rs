@@ -27,6 +27,12 @@ use scruple::transport::conn::{
 use scruple::transport::tls::TlsFiles;
 use tracing_subscriber::EnvFilter;
 
+/// mimalloc instead of glibc's malloc: a request allocates and frees many small blocks across
+/// the runtime's threads, where glibc spent about a tenth of the service's time under load
+/// (BENCHMARKS.md, "Service under load").
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(
     name = "scruple",
