@@ -118,8 +118,8 @@ async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
 }
 
 /// Runs a replay, with a counter on stderr when a person is watching.
-async fn replay_with_progress(
-    lines: &[offline::Line],
+fn replay_with_progress(
+    lines: &[offline::Line<'_>],
     knowledge: offline::Knowledge,
     label: &str,
 ) -> Vec<offline::Answer> {
@@ -132,7 +132,9 @@ async fn replay_with_progress(
             eprint!("\r{label}: {done}/{total}");
         }
     };
-    let answers = offline::replay(lines, knowledge, &progress).await;
+    // The replay's threads decide through this runtime; this one only waits for them.
+    let runtime = tokio::runtime::Handle::current();
+    let answers = tokio::task::block_in_place(|| offline::replay(lines, knowledge, &runtime, &progress));
     if watching && total > 0 {
         eprintln!();
     }
@@ -151,11 +153,11 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
     let bytes = offline::read_input(&args.file)?;
     let lines = offline::parse_lines(&bytes);
     let proposed = sources.knowledge(args.sources.norms.as_deref()).await?;
-    let answers = replay_with_progress(&lines, proposed, "replayed").await;
+    let answers = replay_with_progress(&lines, proposed, "replayed");
     let summary = Summary::of(&answers);
     if args.diff {
         let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
-        let before = replay_with_progress(&lines, baseline, "baseline").await;
+        let before = replay_with_progress(&lines, baseline, "baseline");
         let changes = offline::diff(&before, &answers);
         print!("{}", offline::diff_report(&changes, answers.len()));
         if !summary.errors.is_empty() {

@@ -519,3 +519,56 @@ fn a_malformed_line_is_reported_with_its_number_and_the_rest_still_run() {
     assert_eq!(answers[3]["error"]["field"], "/request/directive/action");
     assert_eq!(answers[3]["condition"], "x");
 }
+
+/// The replay's threads change nothing in its answers: the same file replayed on every core and
+/// pinned to one (so one worker) gives the same bytes, a malformed line among them.
+#[test]
+fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
+    use std::os::unix::process::CommandExt;
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let mut lines = demo_jsonl(&demo).repeat(40);
+    lines.insert_str(lines.len() / 2, "{\"request\": 7}\n\n");
+    let jsonl = write(dir.path(), "cases.jsonl", &lines);
+    let norms = paper_norms(dir.path(), &demo);
+    let run = |name: &str, one_core: bool| {
+        let out = dir.path().join(name);
+        let mut command = Command::new(env!("CARGO_BIN_EXE_scruple"));
+        command
+            .args(["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)])
+            .stdin(Stdio::null());
+        if one_core {
+            // SAFETY: only async-signal-safe calls between fork and exec.
+            unsafe {
+                command.pre_exec(|| {
+                    let mut set: libc::cpu_set_t = std::mem::zeroed();
+                    libc::CPU_SET(0, &mut set);
+                    match libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) {
+                        0 => Ok(()),
+                        _ => Err(std::io::Error::last_os_error()),
+                    }
+                });
+            }
+        }
+        let output = command.output().expect("the binary runs");
+        assert_eq!(
+            output.status.code(),
+            Some(2),
+            "one line is malformed: {}",
+            stderr(&output)
+        );
+        (stdout(&output), std::fs::read(&out).unwrap())
+    };
+    let (summary_all, answers_all) = run("all.jsonl", false);
+    let (summary_one, answers_one) = run("one.jsonl", true);
+    assert!(
+        summary_all.starts_with("401 requests: 400 decided, 1 error\n"),
+        "{summary_all}"
+    );
+    assert_eq!(summary_one, summary_all);
+    assert_eq!(answers_one.len(), answers_all.len());
+    assert!(
+        answers_one == answers_all,
+        "the answers differ between one core and all"
+    );
+}

@@ -2,10 +2,12 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
 
 use super::{Knowledge, core_over, decide};
+use crate::core::Core;
 use crate::error::Problem;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
@@ -20,50 +22,54 @@ struct Envelope {
     request: ClarifyBody,
 }
 
-/// One non-blank line of a replay file, parsed.
-#[derive(Debug)]
-pub struct Line {
+/// One non-blank line of a replay file, not yet parsed: each is parsed by the thread that
+/// decides it, so that parsing is spread over the cores and no parsed scene outlives its line.
+#[derive(Clone, Copy, Debug)]
+pub struct Line<'a> {
     /// 1-based, counting every line of the file, blank ones included.
     pub number: usize,
-    pub id: Option<String>,
-    pub condition: Option<String>,
-    /// Whether the request came in an envelope: its pointers then start with `/request`.
-    pub enveloped: bool,
-    /// The request, or why the line is not one (pointers are into the line's JSON).
-    pub request: Result<ClarifyBody, Problem>,
+    /// Without its line end (and a `\r` before it).
+    pub bytes: &'a [u8],
 }
 
-/// Parses a replay file. A line whose object has a `request` member is an envelope
-/// `{"id"?: string, "condition"?: string, "request": body}` (nothing else allowed); any other line
-/// is a bare `POST /v1/clarify` body (which has no `request` member, so the two never clash).
-/// Lines end at `\n` (a `\r` before it is dropped); blank lines are skipped; bytes that are not
-/// UTF-8 make their own line malformed, not the file.
-pub fn parse_lines(bytes: &[u8]) -> Vec<Line> {
+/// A line read: its request, or why it is not one (pointers are into the line's JSON).
+struct Parsed {
+    id: Option<String>,
+    condition: Option<String>,
+    /// Whether the request came in an envelope: its pointers then start with `/request`.
+    enveloped: bool,
+    request: Result<ClarifyBody, Problem>,
+}
+
+/// Splits a replay file into its lines. A line whose object has a `request` member is an
+/// envelope `{"id"?: string, "condition"?: string, "request": body}` (nothing else allowed); any
+/// other line is a bare `POST /v1/clarify` body (which has no `request` member, so the two never
+/// clash). Lines end at `\n` (a `\r` before it is dropped); blank lines are skipped; bytes that
+/// are not UTF-8 make their own line malformed, not the file.
+pub fn parse_lines(bytes: &[u8]) -> Vec<Line<'_>> {
     bytes
         .split(|b| *b == b'\n')
         .enumerate()
         .map(|(i, line)| (i + 1, line.strip_suffix(b"\r").unwrap_or(line)))
         .filter(|(_, line)| !line.iter().all(u8::is_ascii_whitespace))
-        .map(|(number, line)| parse_line(number, line))
+        .map(|(number, bytes)| Line { number, bytes })
         .collect()
 }
 
-fn parse_line(number: usize, bytes: &[u8]) -> Line {
+fn parse_line(bytes: &[u8]) -> Parsed {
     let enveloped = matches!(
         serde_json::from_slice::<serde_json::Value>(bytes),
         Ok(serde_json::Value::Object(ref members)) if members.contains_key("request")
     );
     if enveloped {
         match parse_json::<Envelope>(bytes) {
-            Ok(e) => Line {
-                number,
+            Ok(e) => Parsed {
                 id: e.id,
                 condition: e.condition,
                 enveloped,
                 request: Ok(e.request),
             },
-            Err(error) => Line {
-                number,
+            Err(error) => Parsed {
                 id: None,
                 condition: None,
                 enveloped,
@@ -71,8 +77,7 @@ fn parse_line(number: usize, bytes: &[u8]) -> Line {
             },
         }
     } else {
-        Line {
-            number,
+        Parsed {
             id: None,
             condition: None,
             enveloped,
@@ -111,82 +116,104 @@ impl Answer {
     }
 }
 
-/// Decides every line, as many at once as there are cores; answers come back in line order.
-/// `done` is called once per line as it finishes, with the count so far (for a progress
-/// counter).
-pub async fn replay(lines: &[Line], knowledge: Knowledge, done: &(dyn Fn(usize) + Sync)) -> Vec<Answer> {
+/// Lines a worker takes at a time: enough that taking them costs nothing beside deciding them,
+/// few enough that the workers finish together.
+const CHUNK: usize = 64;
+
+/// Decides every line on one thread per core, each parsing and deciding the lines it takes;
+/// answers come back in line order, the same whatever the thread count. `runtime` runs the
+/// core's operation (and its blocking pool, for costly decisions); this call blocks, so call it
+/// outside the runtime's own threads (or under `block_in_place`). `done` is called once per
+/// line as it finishes, with the count so far (for a progress counter).
+pub fn replay(
+    lines: &[Line<'_>],
+    knowledge: Knowledge,
+    runtime: &tokio::runtime::Handle,
+    done: &(dyn Fn(usize) + Sync),
+) -> Vec<Answer> {
     let core = core_over(knowledge);
     // No more at once than the core has turns for costly decisions, so none waits for a turn
-    // (a server would answer such a wait as overload); small ones run on the runtime's threads.
-    let at_once = std::thread::available_parallelism().map_or(2, usize::from);
-    let mut answers: Vec<Option<Answer>> = vec![None; lines.len()];
-    let mut running = tokio::task::JoinSet::new();
-    let mut finished = 0;
-    for (i, line) in lines.iter().enumerate() {
-        if running.len() >= at_once
-            && let Some(joined) = running.join_next().await
-        {
-            let (k, answer) = settled(joined);
-            answers[k] = Some(answer);
-            finished += 1;
-            done(finished);
+    // (a server would answer such a wait as overload).
+    let workers = std::thread::available_parallelism().map_or(2, usize::from);
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    let work = || {
+        let mut decided = Vec::new();
+        loop {
+            let from = next.fetch_add(CHUNK, Ordering::Relaxed);
+            if from >= lines.len() {
+                return decided;
+            }
+            for (i, line) in lines.iter().enumerate().skip(from).take(CHUNK) {
+                decided.push((i, runtime.block_on(answer(line, &core))));
+                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+            }
         }
-        let core = core.clone();
-        let request = line.request.clone();
-        let (number, id, condition, enveloped) = (line.number, line.id.clone(), line.condition.clone(), line.enveloped);
-        running.spawn(async move {
-            let outcome = match request {
-                Ok(body) => decide(body, &core).await.map_err(|e| {
-                    let mut problem = e.problem();
-                    // Pointers in a report are into the line, whatever wraps the request.
-                    if enveloped {
-                        problem.field = problem.field.map(|f| format!("/request{f}"));
-                    }
-                    problem
-                }),
-                Err(problem) => Err(problem),
-            };
-            let (decision, error) = match outcome {
-                Ok(d) => (Some(d), None),
-                Err(p) => (None, Some(p)),
-            };
-            let answer = Answer {
-                line: number,
-                id,
-                condition,
-                decision,
-                error,
-            };
-            (i, answer)
-        });
-    }
-    while let Some(joined) = running.join_next().await {
-        let (k, answer) = settled(joined);
-        answers[k] = Some(answer);
-        finished += 1;
-        done(finished);
-    }
+    };
+    let mut answers: Vec<Option<Answer>> = vec![None; lines.len()];
+    std::thread::scope(|scope| {
+        let running: Vec<_> = (0..workers).map(|_| scope.spawn(work)).collect();
+        for worker in running {
+            // A worker ends only by returning or by a panic of the engine, which is a bug: it
+            // is raised here as it would have been on one thread.
+            let decided = worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+            for (i, answer) in decided {
+                answers[i] = Some(answer);
+            }
+        }
+    });
     answers.into_iter().flatten().collect()
 }
 
-/// A finished line. A task ends only by returning or by a panic of the engine, which is a bug:
-/// it is raised here as it would have been without the task.
-fn settled(joined: Result<(usize, Answer), tokio::task::JoinError>) -> (usize, Answer) {
-    match joined {
-        Ok(done) => done,
-        Err(e) => std::panic::resume_unwind(e.into_panic()),
+/// One line parsed and decided.
+async fn answer(line: &Line<'_>, core: &Core) -> Answer {
+    let Parsed {
+        id,
+        condition,
+        enveloped,
+        request,
+    } = parse_line(line.bytes);
+    let outcome = match request {
+        Ok(body) => decide(body, core).await.map_err(|e| {
+            let mut problem = e.problem();
+            // Pointers in a report are into the line, whatever wraps the request.
+            if enveloped {
+                problem.field = problem.field.map(|f| format!("/request{f}"));
+            }
+            problem
+        }),
+        Err(problem) => Err(problem),
+    };
+    let (decision, error) = match outcome {
+        Ok(d) => (Some(d), None),
+        Err(p) => (None, Some(p)),
+    };
+    Answer {
+        line: line.number,
+        id,
+        condition,
+        decision,
+        error,
     }
 }
 
 /// Answers as JSON Lines, one per request, in line order.
+/// Serialized on every core, as they were decided.
 pub fn answers_jsonl(answers: &[Answer]) -> String {
-    let mut out = String::new();
-    for answer in answers {
-        // An answer is plain data (strings, numbers, lists): it always serializes.
-        out.push_str(&serde_json::to_string(answer).unwrap_or_default());
-        out.push('\n');
-    }
-    out
+    use rayon::prelude::*;
+    answers
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut out = String::new();
+            for answer in chunk {
+                // An answer is plain data (strings, numbers, lists): it always serializes.
+                out.push_str(&serde_json::to_string(answer).unwrap_or_default());
+                out.push('\n');
+            }
+            out
+        })
+        .collect::<Vec<String>>()
+        .concat()
 }
 
 /// The condition column for a line that names none.
