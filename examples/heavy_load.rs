@@ -1,14 +1,14 @@
 //! A bounded heavy load against a running Scruple: CLIENTS clients, each sending "Put the cup on
 //! the plate." over SIZE cups × SIZE plates (SIZE² readings) again and again for SECONDS, while
-//! a prober asks `/healthz` every 100 ms. Prints what a robot fleet would see: how late each
-//! answer came against its deadline, the statuses (and problem types of the 503s), and health's
-//! latency. A client told to retry later (503 with Retry-After) waits that long, as a robot
+//! a prober asks `/healthz` every 100 ms and a light client asks the paper's "Get the vase." every
+//! 20 ms. Prints what a robot fleet would see: how late each answer came against its deadline,
+//! the statuses (and problem types of the 503s), health's latency and the light requests'. A client told to retry later (503 with Retry-After) waits that long, as a robot
 //! should. Traffic goes only to the address given (loopback in scripts/heavy-load.sh).
 //!
 //! Usage: `cargo run --release --example heavy_load -- ADDR [CLIENTS] [SECONDS] [SIZE] [DEADLINE_MS]`
 //! (defaults 64, 30, 316, 2000). Exits nonzero unless every answer came within its deadline +
-//! 250 ms (or was a 503 `overloaded`), no answer was `norms-unavailable`, and health's p99 was
-//! within 50 ms.
+//! 250 ms (or was a 503 `overloaded`), no answer was `norms-unavailable`, health's p99 was
+//! within 50 ms, and every light request was answered 200 with a p99 within 250 ms.
 
 use std::collections::BTreeMap;
 use std::process::ExitCode;
@@ -42,6 +42,20 @@ struct Tally {
     latest: Duration,
     health: Vec<Duration>,
     health_failures: u64,
+    /// The light requests' latencies, and how many were not answered 200.
+    light: Vec<Duration>,
+    light_failures: u64,
+}
+
+/// The paper's "Get the vase." in its lab scene: a request a robot sends while others are heavy.
+fn light_body() -> Vec<u8> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/paper-demo.json");
+    let demo: Value = serde_json::from_str(&std::fs::read_to_string(path).expect("paper-demo.json")).expect("JSON");
+    serde_json::to_vec(&json!({
+        "directive": {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."},
+        "scene": demo["scenes"]["lab"],
+    }))
+    .expect("the body is JSON")
 }
 
 fn quantile(sorted: &[Duration], q: f64) -> Duration {
@@ -150,14 +164,41 @@ async fn main() -> ExitCode {
             }
         })
     };
+    let light = {
+        let (client, tally, body) = (client.clone(), tally.clone(), light_body());
+        let url = format!("http://{addr}/v1/clarify");
+        tokio::spawn(async move {
+            while Instant::now() < until {
+                let sent = Instant::now();
+                let ok = client
+                    .post(&url)
+                    .header("content-type", "application/json")
+                    .body(body.clone())
+                    .timeout(Duration::from_secs(10))
+                    .send()
+                    .await
+                    .is_ok_and(|r| r.status().is_success());
+                {
+                    let mut t = tally.lock().unwrap();
+                    t.light.push(sent.elapsed());
+                    if !ok {
+                        t.light_failures += 1;
+                    }
+                }
+                tokio::time::sleep(Duration::from_millis(20)).await;
+            }
+        })
+    };
     for task in tasks {
         let _ = task.await;
     }
     let _ = prober.await;
+    let _ = light.await;
 
     let mut t = tally.lock().unwrap();
     t.answered.sort();
     t.health.sort();
+    t.light.sort();
     println!(
         "clients {clients}, {seconds} s, {size} cups x {size} plates ({} readings), deadline {deadline_ms} ms",
         size * size
@@ -182,13 +223,27 @@ async fn main() -> ExitCode {
         ms(t.health.last().copied().unwrap_or_default()),
         t.health_failures
     );
+    let light_p99 = quantile(&t.light, 0.99);
+    println!(
+        "  light \"Get the vase.\": {} asked, p50 {}, p99 {}, max {}, not 200: {}",
+        t.light.len(),
+        ms(quantile(&t.light, 0.5)),
+        ms(light_p99),
+        ms(t.light.last().copied().unwrap_or_default()),
+        t.light_failures
+    );
     let unavailable: u64 = t
         .outcomes
         .iter()
         .filter(|(k, _)| !(k.as_str() == "200" || k.as_str() == "503 /problems/overloaded"))
         .map(|(_, n)| n)
         .sum();
-    let ok = t.late == 0 && unavailable == 0 && health_p99 <= Duration::from_millis(50) && t.health_failures == 0;
+    let ok = t.late == 0
+        && unavailable == 0
+        && health_p99 <= Duration::from_millis(50)
+        && t.health_failures == 0
+        && light_p99 <= SLACK
+        && t.light_failures == 0;
     println!("  verdict: {}", if ok { "PASS" } else { "FAIL" });
     if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }
 }
