@@ -84,8 +84,12 @@ fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
 
 /// Requests that may cost at most this many simulated steps (readings × the verb's expansion)
 /// are decided on the calling task (see `clarify`); the rest go to the blocking pool, so a
-/// costly one never holds a runtime thread that health checks need.
-const INLINE_STEPS: u128 = 32;
+/// costly one never holds a runtime thread that health checks need. A step costs a few
+/// microseconds (BENCHMARKS.md: about 4 µs a reading at 1,000 objects), so the most a request
+/// decided inline can hold a runtime thread is about a millisecond. Words are bounded by the
+/// objects squared before they are read: at 32, the paper's five-object scene asked in words
+/// went through the blocking pool and a costly turn, a thread handoff for microseconds of work.
+const INLINE_STEPS: u128 = 256;
 
 /// Set when the request's future is dropped (its client went away): the decision it started
 /// stops at its next step instead of keeping a core busy for nobody.
