@@ -40,11 +40,58 @@ struct Tally {
     /// Answers that came later than deadline + SLACK.
     late: u64,
     latest: Duration,
-    health: Vec<Duration>,
-    health_failures: u64,
-    /// The light requests' latencies, and how many were not answered 200.
-    light: Vec<Duration>,
-    light_failures: u64,
+    health: Probe,
+    /// The paper's "Get the vase.", asked beside the heavy requests.
+    light: Probe,
+}
+
+/// A request sent at a steady pace: each one's latency, and how many were not answered 2xx.
+#[derive(Default)]
+struct Probe {
+    times: Vec<Duration>,
+    failures: u64,
+}
+
+impl Probe {
+    /// Prints one line of the probe's latencies (sorted first); returns its p99.
+    fn report(&mut self, name: &str, sent: &str, failed: &str) -> Duration {
+        self.times.sort();
+        let p99 = quantile(&self.times, 0.99);
+        println!(
+            "  {name}: {} {sent}, p50 {}, p99 {}, max {}, {failed}: {}",
+            self.times.len(),
+            ms(quantile(&self.times, 0.5)),
+            ms(p99),
+            ms(self.times.last().copied().unwrap_or_default()),
+            self.failures
+        );
+        p99
+    }
+}
+
+/// Sends `request` every `every` until `until`, recording each outcome in the probe `of` picks.
+fn probe(
+    request: reqwest::RequestBuilder,
+    every: Duration,
+    until: Instant,
+    tally: Arc<Mutex<Tally>>,
+    of: fn(&mut Tally) -> &mut Probe,
+) -> tokio::task::JoinHandle<()> {
+    let request = request.timeout(Duration::from_secs(10));
+    tokio::spawn(async move {
+        while Instant::now() < until {
+            let sent = Instant::now();
+            let ok =
+                (request.try_clone().expect("a body in memory").send().await).is_ok_and(|r| r.status().is_success());
+            {
+                let mut t = tally.lock().unwrap();
+                let probe = of(&mut t);
+                probe.times.push(sent.elapsed());
+                probe.failures += u64::from(!ok);
+            }
+            tokio::time::sleep(every).await;
+        }
+    })
 }
 
 /// The paper's "Get the vase." in its lab scene: a request a robot sends while others are heavy.
@@ -141,64 +188,30 @@ async fn main() -> ExitCode {
             }
         }));
     }
-    let prober = {
-        let (client, tally) = (client.clone(), tally.clone());
-        let url = format!("http://{addr}/healthz");
-        tokio::spawn(async move {
-            while Instant::now() < until {
-                let sent = Instant::now();
-                let ok = client
-                    .get(&url)
-                    .timeout(Duration::from_secs(10))
-                    .send()
-                    .await
-                    .is_ok_and(|r| r.status().is_success());
-                {
-                    let mut t = tally.lock().unwrap();
-                    t.health.push(sent.elapsed());
-                    if !ok {
-                        t.health_failures += 1;
-                    }
-                }
-                tokio::time::sleep(Duration::from_millis(100)).await;
-            }
-        })
-    };
-    let light = {
-        let (client, tally, body) = (client.clone(), tally.clone(), light_body());
-        let url = format!("http://{addr}/v1/clarify");
-        tokio::spawn(async move {
-            while Instant::now() < until {
-                let sent = Instant::now();
-                let ok = client
-                    .post(&url)
-                    .header("content-type", "application/json")
-                    .body(body.clone())
-                    .timeout(Duration::from_secs(10))
-                    .send()
-                    .await
-                    .is_ok_and(|r| r.status().is_success());
-                {
-                    let mut t = tally.lock().unwrap();
-                    t.light.push(sent.elapsed());
-                    if !ok {
-                        t.light_failures += 1;
-                    }
-                }
-                tokio::time::sleep(Duration::from_millis(20)).await;
-            }
-        })
-    };
+    let health = probe(
+        client.get(format!("http://{addr}/healthz")),
+        Duration::from_millis(100),
+        until,
+        tally.clone(),
+        |t| &mut t.health,
+    );
+    let light = probe(
+        (client.post(format!("http://{addr}/v1/clarify")))
+            .header("content-type", "application/json")
+            .body(light_body()),
+        Duration::from_millis(20),
+        until,
+        tally.clone(),
+        |t| &mut t.light,
+    );
     for task in tasks {
         let _ = task.await;
     }
-    let _ = prober.await;
+    let _ = health.await;
     let _ = light.await;
 
     let mut t = tally.lock().unwrap();
     t.answered.sort();
-    t.health.sort();
-    t.light.sort();
     println!(
         "clients {clients}, {seconds} s, {size} cups x {size} plates ({} readings), deadline {deadline_ms} ms",
         size * size
@@ -214,24 +227,8 @@ async fn main() -> ExitCode {
         ms(SLACK),
         t.late
     );
-    let health_p99 = quantile(&t.health, 0.99);
-    println!(
-        "  /healthz: {} probes, p50 {}, p99 {}, max {}, failed {}",
-        t.health.len(),
-        ms(quantile(&t.health, 0.5)),
-        ms(health_p99),
-        ms(t.health.last().copied().unwrap_or_default()),
-        t.health_failures
-    );
-    let light_p99 = quantile(&t.light, 0.99);
-    println!(
-        "  light \"Get the vase.\": {} asked, p50 {}, p99 {}, max {}, not 200: {}",
-        t.light.len(),
-        ms(quantile(&t.light, 0.5)),
-        ms(light_p99),
-        ms(t.light.last().copied().unwrap_or_default()),
-        t.light_failures
-    );
+    let health_p99 = t.health.report("/healthz", "probes", "failed");
+    let light_p99 = t.light.report("light \"Get the vase.\"", "asked", "not 200");
     let unavailable: u64 = t
         .outcomes
         .iter()
@@ -241,9 +238,9 @@ async fn main() -> ExitCode {
     let ok = t.late == 0
         && unavailable == 0
         && health_p99 <= Duration::from_millis(50)
-        && t.health_failures == 0
+        && t.health.failures == 0
         && light_p99 <= SLACK
-        && t.light_failures == 0;
+        && t.light.failures == 0;
     println!("  verdict: {}", if ok { "PASS" } else { "FAIL" });
     if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }
 }
