@@ -145,6 +145,11 @@ impl Core {
     /// The knowledge, if it can be had before `deadline`; a store too busy to answer by then is
     /// overload (503 with Retry-After), so a decision is never answered late for want of it.
     pub(super) async fn knowledge_by(&self, deadline: Instant) -> Result<Knowledge, Error> {
+        // Under a lease nothing is awaited, so nothing can be late: no timer is set. A failed
+        // check is made again below, where readiness notes it.
+        if let Ok(Some(knowledge)) = self.leased(Some(&self.metrics)) {
+            return Ok(knowledge);
+        }
         // A little past the deadline, so that a request whose deadline is (nearly) spent still
         // gets its answer with `limits` when the store is quick, as it is unless overloaded.
         tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), self.knowledge())
