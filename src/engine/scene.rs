@@ -173,13 +173,14 @@ impl Object {
     /// object. The rotation is normalised.
     fn from_input(o: ObjectInput) -> Result<Object, Invalid> {
         constant("/type", &o.kind, "a type")?;
+        // Pointers are written only for a fault: a scene that is right costs no text for them.
         for (j, p) in o.properties.iter().enumerate() {
-            constant(&format!("/properties/{j}"), p, "a property")?;
+            constant("", p, "a property").map_err(|e| e.within(&format!("/properties/{j}")))?;
         }
         for (key, value) in &o.attributes {
-            let field = format!("/attributes/{}", pointer_segment(key));
-            constant(&field, key, "an attribute name")?;
-            constant(&field, value, "an attribute value")?;
+            let at = || format!("/attributes/{}", pointer_segment(key));
+            constant("", key, "an attribute name").map_err(|e| e.within(&at()))?;
+            constant("", value, "an attribute value").map_err(|e| e.within(&at()))?;
         }
         finite("/position", &o.position)?;
         let shape = o
@@ -263,23 +264,23 @@ impl Scene {
         let mut seen = std::collections::HashSet::new();
         let mut objects = Vec::with_capacity(input.objects.len());
         for (i, o) in input.objects.into_iter().enumerate() {
-            let at = format!("/objects/{i}");
-            constant(&format!("{at}/id"), &o.id, "an object id")?;
+            let at = || format!("/objects/{i}");
+            constant("/id", &o.id, "an object id").map_err(|e| e.within(&at()))?;
             if !seen.insert(o.id.clone()) {
                 return Err(Invalid::new(
-                    format!("{at}/id"),
+                    format!("{}/id", at()),
                     format!("duplicate object id `{}`", o.id),
                 ));
             }
-            objects.push(Object::from_input(o).map_err(|e| e.within(&at))?);
+            objects.push(Object::from_input(o).map_err(|e| e.within(&at()))?);
         }
         let mut facts = Vec::with_capacity(input.facts.len());
         for (k, text) in input.facts.iter().enumerate() {
-            let field = format!("/facts/{k}");
-            let fact =
-                Term::parse_within(text, limits.terms).map_err(|e| Invalid::new(&field, format!("not a term: {e}")))?;
+            let field = || format!("/facts/{k}");
+            let fact = Term::parse_within(text, limits.terms)
+                .map_err(|e| Invalid::new(field(), format!("not a term: {e}")))?;
             if !fact.is_ground() || fact.is_var() {
-                return Err(Invalid::new(field, "a scene fact must be ground (no variables)"));
+                return Err(Invalid::new(field(), "a scene fact must be ground (no variables)"));
             }
             facts.push(fact);
         }
