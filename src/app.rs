@@ -11,8 +11,7 @@ use std::time::Duration;
 use tokio::net::TcpListener;
 
 use axum::http::HeaderName;
-use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetRequestIdLayer};
-use tower_http::trace::TraceLayer;
+use tower_http::request_id::{PropagateRequestIdLayer, SetRequestIdLayer};
 
 use crate::core::Core;
 use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
@@ -173,8 +172,8 @@ impl Application {
 /// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
 /// Layers, outermost first: a request id (the caller's `x-request-id`, or a fresh UUID) set and
-/// echoed on the response; the trace span carrying it; metrics; admission. A refused request is
-/// still traced and counted.
+/// echoed on the response; the span carrying it, with metrics (`observe`); admission. A refused
+/// request is still traced and counted.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
@@ -193,7 +192,6 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
         .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
         .layer(axum::middleware::from_fn_with_state(observer, observe::observe))
-        .layer(TraceLayer::new_for_http().make_span_with(observe::span))
         .layer(PropagateRequestIdLayer::new(request_id.clone()))
-        .layer(SetRequestIdLayer::new(request_id, MakeRequestUuid)))
+        .layer(SetRequestIdLayer::new(request_id, observe::RequestIds::new())))
 }

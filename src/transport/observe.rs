@@ -1,5 +1,6 @@
 //! Per-request observation for both transports: the request counter and latency histogram by
-//! route template, and the span every log line of a request carries (with its request id).
+//! route template, and the span every log line of a request carries (with its request id): one
+//! layer, so that a request is wrapped, timed and labelled once.
 //!
 //! Must not: label or log a request's content: routes are templates (or a gRPC method that
 //! exists), never raw paths an attacker could multiply; methods are the standard ones or
@@ -7,6 +8,7 @@
 
 use std::collections::HashSet;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use axum::extract::{MatchedPath, Request, State};
@@ -14,6 +16,7 @@ use axum::http::Method;
 use axum::middleware::Next;
 use axum::response::Response;
 use prost::Message;
+use tracing::Instrument;
 
 use crate::metrics::{Metrics, RequestLabels, RouteLabels};
 
@@ -82,7 +85,13 @@ fn grpc_status_label(value: &[u8]) -> &'static str {
         .unwrap_or("other")
 }
 
-pub async fn observe(State(observer): State<Arc<Observer>>, mut request: Request, next: Next) -> Response {
+/// Counts and times each request, inside its span: every log line of the request carries it.
+pub async fn observe(State(observer): State<Arc<Observer>>, request: Request, next: Next) -> Response {
+    let span = span(&request);
+    measured(observer, request, next).instrument(span).await
+}
+
+async fn measured(observer: Arc<Observer>, mut request: Request, next: Next) -> Response {
     let started = Instant::now();
     request.extensions_mut().insert(crate::transport::Arrival(started));
     let method = method_label(request.method());
@@ -107,13 +116,15 @@ pub async fn observe(State(observer): State<Arc<Observer>>, mut request: Request
         (route, response.status().as_u16().to_string())
     };
     let metrics = &observer.metrics;
+    let seconds = started.elapsed().as_secs_f64();
+    tracing::debug!(status = status.as_str(), seconds, "answered");
     metrics
         .latency
         .get_or_create(&RouteLabels {
             route: route.clone(),
             method,
         })
-        .observe(started.elapsed().as_secs_f64());
+        .observe(seconds);
     metrics
         .requests
         .get_or_create(&RequestLabels { route, method, status })
@@ -121,12 +132,106 @@ pub async fn observe(State(observer): State<Arc<Observer>>, mut request: Request
     response
 }
 
+/// Fresh request ids: UUID-shaped (version 4, RFC 9562 §5.4), unique within the process by a
+/// counter and across processes by a key drawn once at start. An id names a request in logs; it
+/// is no secret, so a system random read per request (what a v4 UUID generator makes) is not
+/// spent on it.
+#[derive(Clone)]
+pub struct RequestIds {
+    key: u64,
+    next: Arc<AtomicU64>,
+}
+
+impl RequestIds {
+    pub fn new() -> RequestIds {
+        use std::hash::{BuildHasher, Hasher};
+        // std's hasher keys are drawn from the system's randomness, once per thread.
+        let mut seed = std::collections::hash_map::RandomState::new().build_hasher();
+        seed.write_u64(std::process::id().into());
+        RequestIds {
+            key: seed.finish(),
+            next: Arc::new(AtomicU64::new(0)),
+        }
+    }
+
+    /// The `n`th id: the low half carries `n` itself (under the key, below the variant bits),
+    /// so no two `n` below 2^62 give the same id; the high half only makes ids look unrelated.
+    fn id(&self, n: u64) -> String {
+        let high = mix(n ^ self.key);
+        let low = (n ^ self.key.rotate_left(32)) & !(0x3 << 62);
+        let bits = (u128::from(high) << 64 | u128::from(low)) & !(0xf << 76);
+        let bits = bits | 0x4 << 76 | 0x2 << 62;
+        let hex = format!("{bits:032x}");
+        format!(
+            "{}-{}-{}-{}-{}",
+            &hex[..8],
+            &hex[8..12],
+            &hex[12..16],
+            &hex[16..20],
+            &hex[20..]
+        )
+    }
+}
+
+impl Default for RequestIds {
+    fn default() -> Self {
+        RequestIds::new()
+    }
+}
+
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+impl tower_http::request_id::MakeRequestId for RequestIds {
+    fn make_request_id<B>(&mut self, _: &axum::http::Request<B>) -> Option<tower_http::request_id::RequestId> {
+        let n = self.next.fetch_add(1, Ordering::Relaxed);
+        let id = axum::http::HeaderValue::from_str(&self.id(n)).ok()?;
+        Some(tower_http::request_id::RequestId::new(id))
+    }
+}
+
 /// The span of one request: method, path and request id, nothing from the body.
-pub fn span(request: &axum::http::Request<axum::body::Body>) -> tracing::Span {
+fn span(request: &axum::http::Request<axum::body::Body>) -> tracing::Span {
     let id = request
         .headers()
         .get(REQUEST_ID)
         .and_then(|v| v.to_str().ok())
         .unwrap_or_default();
     tracing::info_span!("request", method = %request.method(), path = %request.uri().path(), request_id = %id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RequestIds;
+
+    #[test]
+    fn request_ids_are_version_4_uuids_and_never_repeat() {
+        let ids = RequestIds::new();
+        let mut seen = std::collections::HashSet::new();
+        for n in 0..20_000 {
+            let id = ids.id(n);
+            let groups: Vec<&str> = id.split('-').collect();
+            assert_eq!(
+                groups.iter().map(|g| g.len()).collect::<Vec<_>>(),
+                [8, 4, 4, 4, 12],
+                "{id}"
+            );
+            assert!(
+                id.chars()
+                    .all(|c| c == '-' || c.is_ascii_hexdigit() && !c.is_ascii_uppercase())
+            );
+            assert!(groups[2].starts_with('4'), "version nibble of {id}");
+            assert!(
+                matches!(groups[3].as_bytes()[0], b'8' | b'9' | b'a' | b'b'),
+                "variant of {id}"
+            );
+            assert!(seen.insert(id));
+        }
+        // Another process draws another key.
+        assert_ne!(RequestIds::new().id(0), ids.id(0));
+    }
 }
