@@ -173,7 +173,6 @@ impl Object {
     /// object. The rotation is normalised.
     fn from_input(o: ObjectInput) -> Result<Object, Invalid> {
         constant("/type", &o.kind, "a type")?;
-        // Pointers are written only for a fault: a scene that is right costs no text for them.
         for (j, p) in o.properties.iter().enumerate() {
             constant("", p, "a property").map_err(|e| e.within(&format!("/properties/{j}")))?;
         }
@@ -261,12 +260,12 @@ impl Scene {
             ));
         }
         let agent = Agent::from_input(input.agent).map_err(|e| e.within("/agent"))?;
-        let mut seen = std::collections::HashSet::new();
+        let mut by_id = FxHashMap::with_capacity_and_hasher(input.objects.len(), Default::default());
         let mut objects = Vec::with_capacity(input.objects.len());
         for (i, o) in input.objects.into_iter().enumerate() {
             let at = || format!("/objects/{i}");
             constant("/id", &o.id, "an object id").map_err(|e| e.within(&at()))?;
-            if !seen.insert(o.id.clone()) {
+            if by_id.insert(o.id.clone(), i).is_some() {
                 return Err(Invalid::new(
                     format!("{}/id", at()),
                     format!("duplicate object id `{}`", o.id),
@@ -284,12 +283,16 @@ impl Scene {
             }
             facts.push(fact);
         }
-        Ok(Scene::new(agent, objects, facts))
+        Ok(Scene::indexed(agent, objects, facts, by_id))
     }
 
-    /// Builds the scene from values already checked (by `from_input`, or a test's fixtures).
-    pub(super) fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
-        let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
+    /// Builds the scene from values already checked; `by_id`: each object's index, by its id.
+    pub(super) fn indexed(
+        agent: Agent,
+        objects: Vec<Object>,
+        facts: Vec<Term>,
+        by_id: FxHashMap<String, usize>,
+    ) -> Scene {
         let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
         let clearance_cache = objects.iter().map(|_| OnceLock::new()).collect();
         Scene {

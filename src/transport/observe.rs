@@ -159,8 +159,8 @@ impl RequestIds {
     fn id(&self, n: u64) -> String {
         let high = mix(n ^ self.key);
         let low = (n ^ self.key.rotate_left(32)) & !(0x3 << 62);
-        let bits = (u128::from(high) << 64 | u128::from(low)) & !(0xf << 76);
-        let bits = bits | 0x4 << 76 | 0x2 << 62;
+        let bits = ((u128::from(high) << 64) | u128::from(low)) & !(0xf << 76);
+        let bits = bits | (0x4 << 76) | (0x2 << 62);
         let hex = format!("{bits:032x}");
         format!(
             "{}-{}-{}-{}-{}",

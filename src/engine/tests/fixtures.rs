@@ -88,6 +88,14 @@ pub(super) fn lab_objects() -> Vec<Object> {
     ]
 }
 
+impl Scene {
+    /// A scene of a test's fixtures, values already checked.
+    pub(crate) fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
+        let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
+        Scene::indexed(agent, objects, facts, by_id)
+    }
+}
+
 pub(super) fn scene(objects: Vec<Object>, facts: &[&str]) -> Scene {
     Scene::new(agent(), objects, facts.iter().map(|f| t(f)).collect())
 }
