@@ -91,6 +91,19 @@ fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
 /// went through the blocking pool and a costly turn, a thread handoff for microseconds of work.
 const INLINE_STEPS: u128 = 256;
 
+/// Requests that may cost more than this many simulated steps (about 100 ms of a core at the
+/// 4 µs a step of BENCHMARKS.md) are heavy: they take one of fewer turns than the cores, so a
+/// flood of them leaves a core to requests of middling cost, which would otherwise wait behind
+/// them and be refused. A heavy one simulates its readings on every core (rayon), so running
+/// fewer at once costs a flood little throughput and finishes each sooner.
+const HEAVY_STEPS: u128 = 25_000;
+
+/// A turn at a costly simulation, held while it runs.
+struct Turn {
+    _heavy: Option<tokio::sync::OwnedSemaphorePermit>,
+    _core: tokio::sync::OwnedSemaphorePermit,
+}
+
 /// Set when the request's future is dropped (its client went away): the decision it started
 /// stops at its next step instead of keeping a core busy for nobody.
 struct CancelOnDrop(Arc<AtomicBool>);
@@ -137,6 +150,9 @@ pub struct Core {
     readiness: std::sync::Mutex<Option<Readiness>>,
     /// Turns for costly simulations (see `costly_turn`): one per core.
     costly: Arc<tokio::sync::Semaphore>,
+    /// Turns for heavy ones among them: one fewer than the cores (at least one) over a store,
+    /// so that a request of middling cost always finds a core no heavy one holds.
+    heavy: Arc<tokio::sync::Semaphore>,
     /// The knowledge of the last versions read, while its lease holds.
     lease: RwLock<Option<Leased>>,
     /// Held by the one request that reads the versions when the lease has run out; the others
@@ -161,6 +177,13 @@ impl Core {
     }
 
     fn over(source: Source, metrics: Arc<Metrics>, settings: Settings) -> Core {
+        let cores = std::thread::available_parallelism().map_or(2, usize::from);
+        // Offline, nothing waits behind a heavy line: replay runs one line per core, each with a
+        // turn of its own.
+        let heavy = match source {
+            Source::Store(_) => cores.saturating_sub(1).max(1),
+            Source::Fixed(_) => cores,
+        };
         Core {
             source,
             settings,
@@ -170,9 +193,8 @@ impl Core {
             compiled: RwLock::new(None),
             library: RwLock::new(None),
             readiness: std::sync::Mutex::new(None),
-            costly: Arc::new(tokio::sync::Semaphore::new(
-                std::thread::available_parallelism().map_or(2, usize::from),
-            )),
+            costly: Arc::new(tokio::sync::Semaphore::new(cores)),
+            heavy: Arc::new(tokio::sync::Semaphore::new(heavy)),
         }
     }
 
@@ -206,7 +228,7 @@ impl Core {
         let turn = if small {
             None
         } else {
-            Some(self.costly_turn(deadline).await?)
+            Some(self.costly_turn(steps, deadline).await?)
         };
         let speaker = request.speaker.clone();
         let metrics = self.metrics.clone();
@@ -247,11 +269,23 @@ impl Core {
     /// A turn to run a costly simulation: at most one per core at once, so that each finishes
     /// within its deadline rather than all of them late. A request that gets no turn within
     /// [`COSTLY_WAIT`] (nor before its deadline) is overload: 503 with Retry-After at once,
-    /// never an answer long after the robot stopped waiting.
-    async fn costly_turn(&self, deadline: Instant) -> Result<tokio::sync::OwnedSemaphorePermit, Error> {
+    /// never an answer long after the robot stopped waiting. A heavy request (over
+    /// [`HEAVY_STEPS`]) takes a heavy turn first, then a core's: the wait bounds both.
+    async fn costly_turn(&self, steps: u128, deadline: Instant) -> Result<Turn, Error> {
         let until = (Instant::now() + COSTLY_WAIT).min(deadline);
-        match tokio::time::timeout_at(until.into(), self.costly.clone().acquire_owned()).await {
-            Ok(Ok(permit)) => Ok(permit),
+        let turn = async {
+            let heavy = match steps > HEAVY_STEPS {
+                true => Some(self.heavy.clone().acquire_owned().await?),
+                false => None,
+            };
+            let core = self.costly.clone().acquire_owned().await?;
+            Ok::<_, tokio::sync::AcquireError>(Turn {
+                _heavy: heavy,
+                _core: core,
+            })
+        };
+        match tokio::time::timeout_at(until.into(), turn).await {
+            Ok(Ok(turn)) => Ok(turn),
             Ok(Err(_)) | Err(_) => {
                 self.metrics.overloaded.inc();
                 Err(Error::Overloaded { retry_after_s: 1 })
@@ -271,7 +305,7 @@ impl Core {
         let turn = if steps <= INLINE_STEPS {
             None
         } else {
-            Some(self.costly_turn(deadline).await?)
+            Some(self.costly_turn(steps, deadline).await?)
         };
         let metrics = self.metrics.clone();
         tokio::task::spawn_blocking(move || {

@@ -547,6 +547,75 @@ async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile(
     );
 }
 
+/// Admission by cost: a flood of heavy requests (9.3 million simulated steps each) takes fewer
+/// turns than there are cores, so a request of middling cost (about 1,300 steps) is still
+/// decided while they run, instead of being refused as overload behind them.
+#[tokio::test]
+async fn heavy_requests_leave_a_core_to_a_request_of_middling_cost() {
+    let cores = std::thread::available_parallelism().map_or(2, usize::from);
+    if cores < 2 {
+        eprintln!("one core: nothing to leave free; skipped");
+        return;
+    }
+    let app = spawn_app().await;
+    store_costly_library(&app).await;
+    let heavy = json!({
+        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
+        "scene": many_cups(60),
+        "options": {"deadline_ms": 4000},
+    });
+    // One more heavy request than there are cores: without the heavy lane they would hold
+    // every turn.
+    let flood: Vec<_> = (0..=cores)
+        .map(|_| {
+            let (client, url, body) = (app.client.clone(), app.url("/v1/clarify"), heavy.clone());
+            tokio::spawn(async move { client.post(url).json(&body).send().await.unwrap().status() })
+        })
+        .collect();
+    let mut running = false;
+    for _ in 0..200 {
+        let metrics = app.get("/metrics").await.text().await.unwrap();
+        running = metrics.lines().any(|l| {
+            l.strip_prefix("scruple_simulations_in_flight ")
+                .is_some_and(|n| n.trim() != "0")
+        });
+        if running {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(10)).await;
+    }
+    assert!(running, "the heavy requests never started");
+    let middling = json!({
+        "directive": {"action": "a2", "arguments": [{"id": "c1"}]},
+        "scene": many_cups(2),
+    });
+    let response = app
+        .client
+        .post(app.url("/v1/clarify"))
+        .json(&middling)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(response.status(), StatusCode::OK, "{}", response.text().await.unwrap());
+    let statuses: Vec<StatusCode> = joined(flood).await;
+    assert!(
+        statuses.contains(&StatusCode::OK),
+        "a heavy request was decided: {statuses:?}"
+    );
+    assert!(
+        statuses.contains(&StatusCode::SERVICE_UNAVAILABLE),
+        "past the heavy turns, the rest were refused at once: {statuses:?}"
+    );
+}
+
+async fn joined(handles: Vec<tokio::task::JoinHandle<StatusCode>>) -> Vec<StatusCode> {
+    let mut statuses = Vec::new();
+    for handle in handles {
+        statuses.push(handle.await.unwrap());
+    }
+    statuses
+}
+
 /// Finding 10: well-formed JSON of the wrong shape was called malformed (400, no field), a
 /// repeated key pointed at the whole document, a bad audit query was "malformed JSON".
 #[tokio::test]
