@@ -341,6 +341,10 @@ struct Rule {
     others: Vec<Vec<Term>>,
     /// The note, shared by every reason the norm gives.
     note: Option<Arc<str>>,
+    /// The functor and arity of each of `literals` (for an action rule, of each `when`
+    /// condition): a rule with a literal no fact of the world has cannot be met, and is passed
+    /// over before anything is matched or joined.
+    keys: Vec<(Sym, usize)>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -358,6 +362,9 @@ pub struct CompiledNorms {
     /// Ground literals of state rules (`on(o1,o2)`), by the very fact: a new fact finds them
     /// with one hash lookup instead of a unification per norm.
     states_by_fact: FxHashMap<Term, Vec<(usize, usize)>>,
+    /// The functor and arity of every key of `states_by_fact`: a new fact of another functor
+    /// is not hashed whole to find nothing there.
+    fact_keys: rustc_hash::FxHashSet<(Sym, usize)>,
 }
 
 /// What a soft norm that counted was about, for the words of the reason: its `when` facts and
@@ -394,6 +401,12 @@ pub struct StateViolation<'a> {
 }
 
 impl Rule {
+    /// Whether every literal but the one at `skip` (the one a new fact matched) names a functor
+    /// some fact of `world` has: if not, no extension of any bindings makes them all hold.
+    fn may_hold(&self, world: &World, skip: Option<usize>) -> bool {
+        (self.keys.iter().enumerate()).all(|(i, key)| Some(i) == skip || world.may_hold(key))
+    }
+
     /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
     /// needs no words beyond its kind.
     fn soft_match<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
@@ -426,6 +439,7 @@ impl CompiledNorms {
                 for (position, literal) in literals.iter().enumerate() {
                     if let Some(name) = literal.name() {
                         let entry = if literal.is_ground() {
+                            compiled.fact_keys.insert((name.clone(), literal.arity()));
                             compiled.states_by_fact.entry(literal.clone()).or_default()
                         } else {
                             compiled
@@ -446,11 +460,16 @@ impl CompiledNorms {
                     .collect(),
             };
             let note = norm.spec.note.as_deref().map(Arc::from);
+            let conditions = if norm.spec.kind.on_action() { &norm.spec.when } else { &literals };
+            let keys = (conditions.iter())
+                .filter_map(|l| l.name().map(|name| (name.clone(), l.arity())))
+                .collect();
             compiled.rules.push(Rule {
                 norm,
                 literals,
                 others,
                 note,
+                keys,
             });
         }
         compiled
@@ -481,7 +500,7 @@ impl CompiledNorms {
         let mut matches = Matches::default();
         for &index in indices {
             let rule = &self.rules[index];
-            if !rule.norm.applies_in(scope) {
+            if !rule.norm.applies_in(scope) || !rule.may_hold(world, None) {
                 continue;
             }
             // A bare name (`destroy`) matches an action of that name at any arity.
@@ -518,8 +537,9 @@ impl CompiledNorms {
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
             let mut matches = Matches::default();
-            let by_key = self.states_by_key.get(&(name.clone(), fact.arity()));
-            let by_fact = self.states_by_fact.get(fact);
+            let key = (name.clone(), fact.arity());
+            let by_key = self.states_by_key.get(&key);
+            let by_fact = (self.fact_keys.contains(&key)).then(|| self.states_by_fact.get(fact)).flatten();
             // Norm-id order, whichever index found them: each list is in that order already, so
             // only hits from both are merged (and copied).
             let merged: Vec<(usize, usize)>;
@@ -535,7 +555,7 @@ impl CompiledNorms {
             };
             for &(index, position) in hits {
                 let rule = &self.rules[index];
-                if !rule.norm.applies_in(scope) {
+                if !rule.norm.applies_in(scope) || !rule.may_hold(world, Some(position)) {
                     continue;
                 }
                 let Some(seed) = matches.of(&rule.literals[position], fact, false) else {

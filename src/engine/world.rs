@@ -21,7 +21,7 @@ type Facts = IndexSet<Term, FxBuildHasher>;
 const SCAN_AT_MOST: usize = 8;
 
 /// A fact's index key: its functor name and arity (`on/2`).
-type Key = (Sym, usize);
+pub type Key = (Sym, usize);
 
 fn key_of(term: &Term) -> Option<Key> {
     term.name().map(|name| (name.clone(), term.arity()))
@@ -107,6 +107,17 @@ impl World {
         }
         let found = self.base.facts.get(&fact)?;
         (self.removed.is_empty() || !self.removed.contains(found)).then_some(found)
+    }
+
+    /// Whether a fact of this functor and arity may hold: `false` only when neither the base
+    /// nor this world's additions have one, so that any literal of that key fails.
+    pub fn may_hold(&self, key: &Key) -> bool {
+        self.base.index.contains_key(key)
+            || match self.added.len() {
+                0 => false,
+                1..=SCAN_AT_MOST => (self.added.iter()).any(|f| f.arity() == key.1 && f.name() == Some(&key.0)),
+                _ => true,
+            }
     }
 
     /// Makes `fact` true; returns whether it was false before.
