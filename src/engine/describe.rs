@@ -178,7 +178,9 @@ impl<'a> Describer<'a> {
     /// The action's [`arguments`](Describer::arguments) and its [`reading`](Describer::reading),
     /// the arguments described once for both.
     pub fn described(&mut self, action: &Term) -> (String, String) {
-        let args = self.arguments(action);
+        // Room for the words of a few short descriptions, so that they are not copied as they grow.
+        let mut args = String::with_capacity(64);
+        self.arguments_onto(action, &mut args);
         let Some(name) = action.name() else {
             return (args, action.to_string());
         };

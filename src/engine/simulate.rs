@@ -463,7 +463,7 @@ impl Run<'_> {
         for fact in &def.removes {
             self.world.retract(&fact.substitute(bindings));
         }
-        let mut new_facts = Vec::new();
+        let mut new_facts: smallvec::SmallVec<[Term; 4]> = smallvec::SmallVec::new();
         for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([did(action)]) {
             if self.world.assert(fact.clone()) {
                 new_facts.push(fact);
