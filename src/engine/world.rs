@@ -38,7 +38,9 @@ pub struct Base {
 
 impl Base {
     pub fn new(facts: impl IntoIterator<Item = Term>) -> Base {
+        let facts = facts.into_iter();
         let mut base = Base::default();
+        base.facts.reserve(facts.size_hint().0);
         for fact in facts {
             if base.facts.insert(fact.clone())
                 && let Some(key) = key_of(&fact)
