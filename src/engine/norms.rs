@@ -10,7 +10,7 @@ use rustc_hash::FxHashMap;
 
 use super::input::{Invalid, Spelled};
 use super::term::{Subst, Sym, Term};
-use super::world::World;
+use super::world::{KeyBit, World};
 
 /// What a norm is about (an action done, or a state entered) and its force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -344,7 +344,7 @@ struct Rule {
     /// The functor and arity of each of `literals` (for an action rule, of each `when`
     /// condition): a rule with a literal no fact of the world has cannot be met, and is passed
     /// over before anything is matched or joined.
-    keys: Vec<(Sym, usize)>,
+    keys: Vec<KeyBit>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -462,7 +462,7 @@ impl CompiledNorms {
             let note = norm.spec.note.as_deref().map(Arc::from);
             let conditions = if norm.spec.kind.on_action() { &norm.spec.when } else { &literals };
             let keys = (conditions.iter())
-                .filter_map(|l| l.name().map(|name| (name.clone(), l.arity())))
+                .filter_map(|l| l.name().map(|name| KeyBit::new((name.clone(), l.arity()))))
                 .collect();
             compiled.rules.push(Rule {
                 norm,
