@@ -280,13 +280,19 @@ fn decide_directive(
     // The contract's order, before simulating: likeliest first, so a deadline cuts the least likely.
     // Stable, as the order of readings alike in all three must be the order they were made in.
     let mut order: Vec<usize> = (0..readings.len()).collect();
-    order.sort_by(|&a, &b| {
+    let contract = |&a: &usize, &b: &usize| {
         let (a, b) = (&readings[a], &readings[b]);
         (Reverse(Score(a.score)).cmp(&Reverse(Score(b.score))))
             .then_with(|| a.description.cmp(&b.description))
             // Two readings described alike are rare: only they are printed.
             .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
-    });
+    };
+    // A stable sort has one result, however many threads sort.
+    if order.len() >= PARALLEL_FROM {
+        order.par_sort_by(contract);
+    } else {
+        order.sort_by(contract);
+    }
     let mut unsorted: Vec<Option<Interpretation>> = readings.into_iter().map(Some).collect();
     let mut readings: Vec<Interpretation> = (order.iter())
         .filter_map(|&i| unsorted[i].take())
