@@ -294,9 +294,7 @@ fn decide_directive(
         order.sort_by(contract);
     }
     let mut unsorted: Vec<Option<Interpretation>> = readings.into_iter().map(Some).collect();
-    let mut readings: Vec<Interpretation> = (order.iter())
-        .filter_map(|&i| unsorted[i].take())
-        .collect();
+    let mut readings: Vec<Interpretation> = (order.iter()).filter_map(|&i| unsorted[i].take()).collect();
 
     let base = Arc::new(Base::new(scene.all_facts()));
     let world = World::new(base);

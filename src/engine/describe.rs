@@ -54,7 +54,8 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl FnOnce() -> Vec
     let (mut list, mut distractors) = (Some(list), None);
     let mut words = vec!["the".to_owned()];
     for feature in features {
-        let remaining: &mut Vec<&Object> = distractors.get_or_insert_with(|| list.take().map_or_else(Vec::new, |l| l()));
+        let remaining: &mut Vec<&Object> =
+            distractors.get_or_insert_with(|| list.take().map_or_else(Vec::new, |l| l()));
         if remaining.is_empty() {
             break;
         }

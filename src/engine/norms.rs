@@ -344,7 +344,7 @@ struct Rule {
     /// The functor and arity of each of `literals` (for an action rule, of each `when`
     /// condition): a rule with a literal no fact of the world has cannot be met, and is passed
     /// over before anything is matched or joined.
-    keys: Vec<KeyBit>,
+    keys: Vec<Option<KeyBit>>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -362,8 +362,7 @@ pub struct CompiledNorms {
     /// Ground literals of state rules (`on(o1,o2)`), by the very fact: a new fact finds them
     /// with one hash lookup instead of a unification per norm.
     states_by_fact: FxHashMap<Term, Vec<(usize, usize)>>,
-    /// The functor and arity of every key of `states_by_fact`: a new fact of another functor
-    /// is not hashed whole to find nothing there.
+    /// The functors and arities of `states_by_fact`'s keys: another fact is not hashed whole.
     fact_keys: rustc_hash::FxHashSet<(Sym, usize)>,
 }
 
@@ -401,10 +400,9 @@ pub struct StateViolation<'a> {
 }
 
 impl Rule {
-    /// Whether every literal but the one at `skip` (the one a new fact matched) names a functor
-    /// some fact of `world` has: if not, no extension of any bindings makes them all hold.
+    /// Whether each literal but the one at `skip` (a new fact matched it) may hold in `world`.
     fn may_hold(&self, world: &World, skip: Option<usize>) -> bool {
-        (self.keys.iter().enumerate()).all(|(i, key)| Some(i) == skip || world.may_hold(key))
+        (self.keys.iter().enumerate()).all(|(i, key)| Some(i) == skip || key.as_ref().is_none_or(|k| world.may_hold(k)))
     }
 
     /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
@@ -460,9 +458,9 @@ impl CompiledNorms {
                     .collect(),
             };
             let note = norm.spec.note.as_deref().map(Arc::from);
-            let conditions = if norm.spec.kind.on_action() { &norm.spec.when } else { &literals };
-            let keys = (conditions.iter())
-                .filter_map(|l| l.name().map(|name| KeyBit::new((name.clone(), l.arity()))))
+            // An action rule's literals but the action: its `when` conditions.
+            let keys = (literals.iter().skip(usize::from(norm.spec.kind.on_action())))
+                .map(|l| l.name().map(|name| KeyBit::new((name.clone(), l.arity()))))
                 .collect();
             compiled.rules.push(Rule {
                 norm,
@@ -539,7 +537,9 @@ impl CompiledNorms {
             let mut matches = Matches::default();
             let key = (name.clone(), fact.arity());
             let by_key = self.states_by_key.get(&key);
-            let by_fact = (self.fact_keys.contains(&key)).then(|| self.states_by_fact.get(fact)).flatten();
+            let by_fact = (self.fact_keys.contains(&key))
+                .then(|| self.states_by_fact.get(fact))
+                .flatten();
             // Norm-id order, whichever index found them: each list is in that order already, so
             // only hits from both are merged (and copied).
             let merged: Vec<(usize, usize)>;
