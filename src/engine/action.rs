@@ -4,7 +4,9 @@
 //! recursion through the library), and the default library (get, pointTo, destroy, steal, put).
 //! Must not: simulate anything (`simulate` interprets these definitions) or read the database.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
+
+use rustc_hash::FxHashMap;
 
 use serde::{Deserialize, Serialize};
 
@@ -393,12 +395,14 @@ pub const MAX_EXPANSION: u64 = 10_000;
 /// Verbs by name and arity.
 #[derive(Clone, Debug, Default)]
 pub struct Library {
-    defs: HashMap<(Sym, usize), ActionDef>,
+    /// FxHash: a verb is looked up at every step of every reading, and its key's symbol
+    /// hashes as one precomputed word. Never iterated where order reaches the output.
+    defs: FxHashMap<(Sym, usize), ActionDef>,
     /// The stored version this library was loaded from (0 for the built-in one).
     pub version: i64,
     /// Each verb's expansion cost, worked out once on first use (a request asks it for its
     /// verb); emptied by every insert.
-    costs: std::sync::OnceLock<HashMap<(Sym, usize), u64>>,
+    costs: std::sync::OnceLock<FxHashMap<(Sym, usize), u64>>,
     /// Every phrase naming a verb, longest first, worked out once on first use.
     phrases: std::sync::OnceLock<Vec<VerbPhrase>>,
 }
@@ -496,6 +500,7 @@ impl Library {
                 (b.words.len().cmp(&a.words.len()))
                     .then_with(|| a.words.cmp(&b.words))
                     .then_with(|| a.verb.cmp(&b.verb))
+                    .then_with(|| a.arity.cmp(&b.arity))
             });
             phrases
         })
@@ -508,9 +513,9 @@ impl Library {
 
     /// Every verb's cost. The library has no cycles, so each is the sum over its methods' steps
     /// of the costs of the verbs they call, worked out callees first.
-    fn costs(&self) -> &HashMap<(Sym, usize), u64> {
+    fn costs(&self) -> &FxHashMap<(Sym, usize), u64> {
         self.costs.get_or_init(|| {
-            let mut costs = HashMap::with_capacity(self.defs.len());
+            let mut costs = FxHashMap::with_capacity_and_hasher(self.defs.len(), Default::default());
             for key in self.defs.keys() {
                 self.cost_into(key, &mut costs);
             }
@@ -518,7 +523,7 @@ impl Library {
         })
     }
 
-    fn cost_into(&self, key: &(Sym, usize), costs: &mut HashMap<(Sym, usize), u64>) -> u64 {
+    fn cost_into(&self, key: &(Sym, usize), costs: &mut FxHashMap<(Sym, usize), u64>) -> u64 {
         if let Some(&cost) = costs.get(key) {
             return cost;
         }

@@ -257,9 +257,10 @@ fn decide_directive(
             return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
         }
         let action = template.action(&values);
+        let (description, reading) = describer.described(&action);
         readings.push(Interpretation {
-            description: describer.arguments(&action),
-            reading: describer.reading(&action),
+            description,
+            reading,
             action,
             score,
             outcome: Outcome::default(),
@@ -277,7 +278,23 @@ fn decide_directive(
         return Ok(finish(Plan::Unresolved(vec![words]), Vec::new(), None, &mut describer));
     }
     // The contract's order, before simulating: likeliest first, so a deadline cuts the least likely.
-    readings.sort_by_cached_key(|r| (Reverse(Score(r.score)), r.description.clone(), r.action.to_string()));
+    // Stable, as the order of readings alike in all three must be the order they were made in.
+    let mut order: Vec<usize> = (0..readings.len()).collect();
+    let contract = |&a: &usize, &b: &usize| {
+        let (a, b) = (&readings[a], &readings[b]);
+        (Reverse(Score(a.score)).cmp(&Reverse(Score(b.score))))
+            .then_with(|| a.description.cmp(&b.description))
+            // Two readings described alike are rare: only they are printed.
+            .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
+    };
+    // A stable sort has one result, however many threads sort.
+    if order.len() >= PARALLEL_FROM {
+        order.par_sort_by(contract);
+    } else {
+        order.sort_by(contract);
+    }
+    let mut unsorted: Vec<Option<Interpretation>> = readings.into_iter().map(Some).collect();
+    let mut readings: Vec<Interpretation> = (order.iter()).filter_map(|&i| unsorted[i].take()).collect();
 
     let base = Arc::new(Base::new(scene.all_facts()));
     let world = World::new(base);

@@ -7,8 +7,8 @@
 use rustc_hash::FxHashMap;
 
 use super::action::Library;
-use super::scene::{Object, Scene, spoken};
-use super::term::Term;
+use super::scene::{Object, Scene, spoken, spoken_onto};
+use super::term::{Sym, Term};
 
 /// A distinguishing feature of an object.
 #[derive(Clone, Copy)]
@@ -38,36 +38,53 @@ impl Feature<'_> {
 /// properties as listed and then attributes by key, in the order added; the id follows in
 /// parentheses when distractors remain.
 pub fn describe_object(scene: &Scene, object: &Object) -> String {
-    let mut distractors: Vec<&Object> = scene.same_kind(&object.kind, &object.id).collect();
+    let others = || scene.same_kind(&object.kind, &object.id);
+    describe_among(object, others().count(), || others().collect())
+}
+
+/// [`describe_object`], given how many other objects are of its type and how to list them (in
+/// scene order): they are listed only once a feature is tried, so that an object with none (most,
+/// in a large scene of one type) is described by counting them.
+fn describe_among<'s>(object: &Object, others: usize, list: impl FnOnce() -> Vec<&'s Object>) -> String {
     let features = object
         .properties
         .iter()
         .map(|p| Feature::Property(p))
         .chain(object.attributes.iter().map(|(k, v)| Feature::Attribute(k, v)));
+    let (mut list, mut distractors) = (Some(list), None);
     let mut words = vec!["the".to_owned()];
     for feature in features {
-        if distractors.is_empty() {
+        let remaining: &mut Vec<&Object> =
+            distractors.get_or_insert_with(|| list.take().map_or_else(Vec::new, |l| l()));
+        if remaining.is_empty() {
             break;
         }
-        let before = distractors.len();
-        distractors.retain(|d| feature.holds_for(d));
-        if distractors.len() < before {
+        let before = remaining.len();
+        remaining.retain(|d| feature.holds_for(d));
+        if remaining.len() < before {
             words.push(feature.word());
         }
     }
     words.push(spoken(&object.kind));
     let mut text = words.join(" ");
-    if !distractors.is_empty() {
+    if distractors.map_or(others > 0, |d| !d.is_empty()) {
         text.push_str(&format!(" ({})", object.id));
     }
     text
 }
 
+/// Up to this many objects, the objects of a type are found by scanning the scene: listing
+/// them by type costs more than the scans a small scene's descriptions make.
+const SCAN_KINDS: usize = 64;
+
 /// Describes objects, each at most once per request.
 pub struct Describer<'a> {
     scene: &'a Scene,
     library: &'a Library,
-    cache: FxHashMap<String, String>,
+    /// By the object's id, as a symbol: looking one up hashes a precomputed word.
+    cache: FxHashMap<Sym, String>,
+    /// In a large scene, the objects of each type, in scene order, listed at the first description.
+    kinds: Option<FxHashMap<&'a str, Vec<&'a Object>>>,
 }
 
 impl<'a> Describer<'a> {
@@ -76,6 +93,7 @@ impl<'a> Describer<'a> {
             scene,
             library,
             cache: FxHashMap::default(),
+            kinds: None,
         }
     }
 
@@ -93,17 +111,31 @@ impl<'a> Describer<'a> {
             out.push_str(&arg.to_string());
             return;
         };
+        if let Some(words) = self.cache.get(name) {
+            out.push_str(words);
+            return;
+        }
         let Some(object) = self.scene.object(name) else {
             out.push_str(&spoken(name));
             return;
         };
-        if let Some(words) = self.cache.get(object.id.as_str()) {
-            out.push_str(words);
-            return;
-        }
-        let words = describe_object(self.scene, object);
+        let words = if self.scene.objects.len() <= SCAN_KINDS {
+            describe_object(self.scene, object)
+        } else {
+            let scene = self.scene;
+            let kinds = self.kinds.get_or_insert_with(|| {
+                let mut kinds: FxHashMap<&str, Vec<&Object>> = FxHashMap::default();
+                for o in &scene.objects {
+                    kinds.entry(o.kind.as_str()).or_default().push(o);
+                }
+                kinds
+            });
+            let of_kind = kinds.get(object.kind.as_str()).map_or(&[][..], Vec::as_slice);
+            let others = || of_kind.iter().copied().filter(|o| o.id != object.id);
+            describe_among(object, of_kind.len().saturating_sub(1), || others().collect())
+        };
         out.push_str(&words);
-        self.cache.insert(object.id.clone(), words);
+        self.cache.insert(name.clone(), words);
     }
 
     /// Whether the scene object has an attribute of this key (`color`).
@@ -118,23 +150,47 @@ impl<'a> Describer<'a> {
 
     /// The action's arguments in words, joined as its verb joins them ("the cup on the plate").
     pub fn arguments(&mut self, action: &Term) -> String {
-        let joiner = self
-            .library
-            .lookup(action)
-            .and_then(|def| def.joiner.clone())
-            .unwrap_or_else(|| "and".to_owned());
-        let words: Vec<String> = action.args().iter().map(|a| self.argument(a)).collect();
-        words.join(&format!(" {joiner} "))
+        let mut words = String::new();
+        self.arguments_onto(action, &mut words);
+        words
+    }
+
+    /// [`Describer::arguments`], appended to `out`.
+    fn arguments_onto(&mut self, action: &Term, out: &mut String) {
+        let library = self.library;
+        let joiner = (library.lookup(action))
+            .and_then(|def| def.joiner.as_deref())
+            .unwrap_or("and");
+        for (i, arg) in action.args().iter().enumerate() {
+            if i > 0 {
+                out.push(' ');
+                out.push_str(joiner);
+                out.push(' ');
+            }
+            self.argument_into(arg, out);
+        }
     }
 
     /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
     pub fn reading(&mut self, action: &Term) -> String {
-        let verb = action.name().map(|n| spoken(n)).unwrap_or_else(|| action.to_string());
-        let args = self.arguments(action);
-        if args.is_empty() {
-            verb
-        } else {
-            format!("{verb} {args}")
+        self.described(action).1
+    }
+
+    /// The action's [`arguments`](Describer::arguments) and its [`reading`](Describer::reading),
+    /// the arguments described once for both.
+    pub fn described(&mut self, action: &Term) -> (String, String) {
+        // Room for the words of a few short descriptions, so that they are not copied as they grow.
+        let mut args = String::with_capacity(64);
+        self.arguments_onto(action, &mut args);
+        let Some(name) = action.name() else {
+            return (args, action.to_string());
+        };
+        let mut reading = String::with_capacity(name.len() + 1 + args.len());
+        spoken_onto(name, &mut reading);
+        if !args.is_empty() {
+            reading.push(' ');
+            reading.push_str(&args);
         }
+        (args, reading)
     }
 }

@@ -10,7 +10,7 @@ use rustc_hash::FxHashMap;
 
 use super::input::{Invalid, Spelled};
 use super::term::{Subst, Sym, Term};
-use super::world::World;
+use super::world::{KeyBit, World};
 
 /// What a norm is about (an action done, or a state entered) and its force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -341,6 +341,10 @@ struct Rule {
     others: Vec<Vec<Term>>,
     /// The note, shared by every reason the norm gives.
     note: Option<Arc<str>>,
+    /// The functor and arity of each of `literals` (for an action rule, of each `when`
+    /// condition): a rule with a literal no fact of the world has cannot be met, and is passed
+    /// over before anything is matched or joined.
+    keys: Vec<Option<KeyBit>>,
 }
 
 /// A norm set compiled once per stored version: a check is a hash lookup plus unification.
@@ -358,6 +362,8 @@ pub struct CompiledNorms {
     /// Ground literals of state rules (`on(o1,o2)`), by the very fact: a new fact finds them
     /// with one hash lookup instead of a unification per norm.
     states_by_fact: FxHashMap<Term, Vec<(usize, usize)>>,
+    /// The functors and arities of `states_by_fact`'s keys: another fact is not hashed whole.
+    fact_keys: rustc_hash::FxHashSet<(Sym, usize)>,
 }
 
 /// What a soft norm that counted was about, for the words of the reason: its `when` facts and
@@ -394,6 +400,11 @@ pub struct StateViolation<'a> {
 }
 
 impl Rule {
+    /// Whether each literal but the one at `skip` (a new fact matched it) may hold in `world`.
+    fn may_hold(&self, world: &World, skip: Option<usize>) -> bool {
+        (self.keys.iter().enumerate()).all(|(i, key)| Some(i) == skip || key.as_ref().is_none_or(|k| world.may_hold(k)))
+    }
+
     /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
     /// needs no words beyond its kind.
     fn soft_match<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
@@ -426,6 +437,7 @@ impl CompiledNorms {
                 for (position, literal) in literals.iter().enumerate() {
                     if let Some(name) = literal.name() {
                         let entry = if literal.is_ground() {
+                            compiled.fact_keys.insert((name.clone(), literal.arity()));
                             compiled.states_by_fact.entry(literal.clone()).or_default()
                         } else {
                             compiled
@@ -446,11 +458,16 @@ impl CompiledNorms {
                     .collect(),
             };
             let note = norm.spec.note.as_deref().map(Arc::from);
+            // An action rule's literals but the action: its `when` conditions.
+            let keys = (literals.iter().skip(usize::from(norm.spec.kind.on_action())))
+                .map(|l| l.name().map(|name| KeyBit::new((name.clone(), l.arity()))))
+                .collect();
             compiled.rules.push(Rule {
                 norm,
                 literals,
                 others,
                 note,
+                keys,
             });
         }
         compiled
@@ -481,7 +498,7 @@ impl CompiledNorms {
         let mut matches = Matches::default();
         for &index in indices {
             let rule = &self.rules[index];
-            if !rule.norm.applies_in(scope) {
+            if !rule.norm.applies_in(scope) || !rule.may_hold(world, None) {
                 continue;
             }
             // A bare name (`destroy`) matches an action of that name at any arity.
@@ -518,8 +535,11 @@ impl CompiledNorms {
         for fact in new_facts {
             let Some(name) = fact.name() else { continue };
             let mut matches = Matches::default();
-            let by_key = self.states_by_key.get(&(name.clone(), fact.arity()));
-            let by_fact = self.states_by_fact.get(fact);
+            let key = (name.clone(), fact.arity());
+            let by_key = self.states_by_key.get(&key);
+            let by_fact = (self.fact_keys.contains(&key))
+                .then(|| self.states_by_fact.get(fact))
+                .flatten();
             // Norm-id order, whichever index found them: each list is in that order already, so
             // only hits from both are merged (and copied).
             let merged: Vec<(usize, usize)>;
@@ -535,7 +555,7 @@ impl CompiledNorms {
             };
             for &(index, position) in hits {
                 let rule = &self.rules[index];
-                if !rule.norm.applies_in(scope) {
+                if !rule.norm.applies_in(scope) || !rule.may_hold(world, Some(position)) {
                     continue;
                 }
                 let Some(seed) = matches.of(&rule.literals[position], fact, false) else {

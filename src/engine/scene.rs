@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use rustc_hash::FxHashMap;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
@@ -17,7 +17,7 @@ use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, SharedShape};
 
 use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
-use super::term::Term;
+use super::term::{Sym, Term};
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -318,14 +318,18 @@ impl Scene {
     /// `facts` as given.
     pub fn all_facts(&self) -> Vec<Term> {
         let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
+        // Types, properties and attributes recur across objects: each is interned once here.
+        let mut names: FxHashMap<&str, Sym> = FxHashMap::default();
+        let mut name = |text| names.entry(text).or_insert_with(|| Sym::new(text)).clone();
         for object in &self.objects {
-            let id = Term::constant(&object.id);
-            out.push(Term::compound(&object.kind, vec![id.clone()]));
+            let id = Term::Const(Sym::new(&object.id));
+            out.push(Term::Compound(name(&object.kind), Arc::from([id.clone()])));
             for property in &object.properties {
-                out.push(Term::compound(property, vec![id.clone()]));
+                out.push(Term::Compound(name(property), Arc::from([id.clone()])));
             }
             for (key, value) in &object.attributes {
-                out.push(Term::compound(key, vec![id.clone(), Term::constant(value)]));
+                let value = Term::Const(name(value));
+                out.push(Term::Compound(name(key), Arc::from([id.clone(), value])));
             }
         }
         out.extend(self.facts.iter().cloned());

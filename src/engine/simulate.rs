@@ -463,7 +463,7 @@ impl Run<'_> {
         for fact in &def.removes {
             self.world.retract(&fact.substitute(bindings));
         }
-        let mut new_facts = Vec::new();
+        let mut new_facts: smallvec::SmallVec<[Term; 4]> = smallvec::SmallVec::new();
         for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([did(action)]) {
             if self.world.assert(fact.clone()) {
                 new_facts.push(fact);
@@ -482,12 +482,12 @@ impl Run<'_> {
                 self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
                 continue;
             };
-            let id = Sym::from(object.id.as_str());
             if scene.within_reach(&object.id) != Some(true) {
-                self.push(Reason::infeasible(Cause::Unreachable { object: id }));
+                let object = Sym::from(object.id.as_str());
+                self.push(Reason::infeasible(Cause::Unreachable { object }));
             } else if let Some(obstacle) = scene.blocked_by(&object.id) {
                 self.push(Reason::infeasible(Cause::Blocked {
-                    object: id,
+                    object: Sym::from(object.id.as_str()),
                     by: Sym::from(obstacle.id.as_str()),
                 }));
             }

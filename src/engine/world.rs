@@ -6,6 +6,7 @@
 //! hash set where order reaches the output (every iteration here is in insertion order).
 //! Hashing is FxHash: the keys are terms the engine built, and speed matters per reading.
 
+use std::hash::BuildHasher;
 use std::sync::Arc;
 
 use indexmap::{Equivalent, IndexSet};
@@ -21,7 +22,7 @@ type Facts = IndexSet<Term, FxBuildHasher>;
 const SCAN_AT_MOST: usize = 8;
 
 /// A fact's index key: its functor name and arity (`on/2`).
-type Key = (Sym, usize);
+pub type Key = (Sym, usize);
 
 fn key_of(term: &Term) -> Option<Key> {
     term.name().map(|name| (name.clone(), term.arity()))
@@ -34,15 +35,44 @@ pub struct Base {
     facts: hashbrown::HashSet<Term, FxBuildHasher>,
     /// Facts by functor, in the order the scene states them.
     index: FxHashMap<Key, Vec<Term>>,
+    /// One bit per functor and arity of `index` (a key's hash picks one of 1,024): a key whose
+    /// bit is clear has no fact here, found without a lookup.
+    keys: [u64; 16],
+}
+
+/// The word and the bit of `Base::keys` that stand for a key.
+fn key_bit(key: &Key) -> (usize, u64) {
+    let bit = (FxBuildHasher.hash_one(key) >> 54) as usize;
+    (bit / 64, 1 << (bit % 64))
+}
+
+/// A functor and arity with its bit among a base's keys, worked out once (for a norm's
+/// literal, when the norms are compiled).
+#[derive(Clone, Debug)]
+pub struct KeyBit {
+    key: Key,
+    word: usize,
+    bit: u64,
+}
+
+impl KeyBit {
+    pub fn new(key: Key) -> KeyBit {
+        let (word, bit) = key_bit(&key);
+        KeyBit { key, word, bit }
+    }
 }
 
 impl Base {
     pub fn new(facts: impl IntoIterator<Item = Term>) -> Base {
+        let facts = facts.into_iter();
         let mut base = Base::default();
+        base.facts.reserve(facts.size_hint().0);
         for fact in facts {
             if base.facts.insert(fact.clone())
                 && let Some(key) = key_of(&fact)
             {
+                let (word, bit) = key_bit(&key);
+                base.keys[word] |= bit;
                 base.index.entry(key).or_default().push(fact);
             }
         }
@@ -107,6 +137,17 @@ impl World {
         }
         let found = self.base.facts.get(&fact)?;
         (self.removed.is_empty() || !self.removed.contains(found)).then_some(found)
+    }
+
+    /// Whether a fact of this functor and arity may hold: `false` only when neither the base
+    /// nor this world's additions have one, so that any literal of that key fails.
+    pub fn may_hold(&self, KeyBit { key, word, bit }: &KeyBit) -> bool {
+        self.base.keys[*word] & bit != 0
+            || match self.added.len() {
+                0 => false,
+                1..=SCAN_AT_MOST => (self.added.iter()).any(|f| f.arity() == key.1 && f.name() == Some(&key.0)),
+                _ => true,
+            }
     }
 
     /// Makes `fact` true; returns whether it was false before.
