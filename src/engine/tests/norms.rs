@@ -208,3 +208,42 @@ fn conditional_and_contextual_norms() {
         ),
     ]);
 }
+
+/// A norm is passed over when a condition names a functor no fact of the world has (the world
+/// being the scene's facts and what the reading has made true so far): facts made true by an
+/// earlier step must still count, or a forbidden reading would pass.
+#[test]
+fn conditions_on_facts_only_the_simulation_makes_true() {
+    let red_on_mug = || act("put", vec![ty_with("notebook", &[], &[("color", "red")]), ty("mug")]);
+    run_cases(vec![
+        case(
+            "an action's condition made true by the step before it",
+            lab(),
+            norms(&[when(fa("put(X,Y)"), &["holding(self,X)"])]),
+            red_on_mug(),
+            expect(
+                Refuse,
+                None,
+                "I cannot put the red notebook on the mug because put is forbidden action.",
+            ),
+        ),
+        case(
+            "a state's condition made true by an earlier step",
+            lab(),
+            norms(&[when(fs("on(X,Y)"), &["did(self,get(X))"])]),
+            red_on_mug(),
+            expect(
+                Refuse,
+                None,
+                "I cannot put the red notebook on the mug because it requires a forbidden state.",
+            ),
+        ),
+        case(
+            "a condition no fact can meet",
+            lab(),
+            norms(&[when(fs("holding(self,X)"), &["cursed(X)"])]),
+            act("get", vec![ty("mug")]),
+            expect(Comply, Some("did(self,get(object5))"), "Okay."),
+        ),
+    ]);
+}
