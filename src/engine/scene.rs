@@ -67,6 +67,8 @@ pub struct Object {
     pub names: Vec<String>,
 }
 
+/// Each object's index in the scene's list, by its id.
+pub(super) type Ids = FxHashMap<String, usize>;
 /// A validated scene: ids are unique, geometry is finite and positive.
 #[derive(Debug)]
 pub struct Scene {
@@ -74,7 +76,7 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Ground facts given beside the objects.
     pub facts: Vec<Term>,
-    by_id: FxHashMap<String, usize>,
+    by_id: Ids,
     /// Reachability per object, computed at most once per request and only for objects asked about.
     reach_cache: Vec<OnceLock<bool>>,
     /// The first object in the way to each object, likewise computed at most once.
@@ -286,13 +288,8 @@ impl Scene {
         Ok(Scene::indexed(agent, objects, facts, by_id))
     }
 
-    /// Builds the scene from values already checked; `by_id`: each object's index, by its id.
-    pub(super) fn indexed(
-        agent: Agent,
-        objects: Vec<Object>,
-        facts: Vec<Term>,
-        by_id: FxHashMap<String, usize>,
-    ) -> Scene {
+    /// Builds the scene from values already checked.
+    pub(super) fn indexed(agent: Agent, objects: Vec<Object>, facts: Vec<Term>, by_id: Ids) -> Scene {
         let reach_cache = objects.iter().map(|_| OnceLock::new()).collect();
         let clearance_cache = objects.iter().map(|_| OnceLock::new()).collect();
         Scene {
