@@ -148,7 +148,7 @@ pub struct Core {
     metrics: Arc<Metrics>,
     /// What readiness reports: never a read of its own, so a probe answers at once under load.
     readiness: std::sync::Mutex<Option<Readiness>>,
-    /// Turns for costly simulations (see `costly_turn`): one per core.
+    /// Turns for costly simulations (see `turn_for`): one per core.
     costly: Arc<tokio::sync::Semaphore>,
     /// Turns for heavy ones among them: one fewer than the cores (at least one) over a store,
     /// so that a request of middling cost always finds a core no heavy one holds.
@@ -224,12 +224,8 @@ impl Core {
         let Knowledge { norms, library } = self.knowledge_by(deadline).await?;
         let steps = at_most_readings(&request.directive, &scene)
             .saturating_mul(u128::from(expansion_of(&request.directive, &library)));
-        let small = steps <= INLINE_STEPS;
-        let turn = if small {
-            None
-        } else {
-            Some(self.costly_turn(steps, deadline).await?)
-        };
+        let turn = self.turn_for(steps, deadline).await?;
+        let small = turn.is_none();
         let speaker = request.speaker.clone();
         let metrics = self.metrics.clone();
         let decide = move || {
@@ -266,12 +262,17 @@ impl Core {
         }
     }
 
-    /// A turn to run a costly simulation: at most one per core at once, so that each finishes
-    /// within its deadline rather than all of them late. A request that gets no turn within
-    /// [`COSTLY_WAIT`] (nor before its deadline) is overload: 503 with Retry-After at once,
-    /// never an answer long after the robot stopped waiting. A heavy request (over
-    /// [`HEAVY_STEPS`]) takes a heavy turn first, then a core's: the wait bounds both.
-    async fn costly_turn(&self, steps: u128, deadline: Instant) -> Result<Turn, Error> {
+    /// Admission by cost: the turn a request of at most `steps` simulated steps needs. None up
+    /// to [`INLINE_STEPS`]; else a turn to run a costly simulation, at most one per core at once,
+    /// so that each finishes within its deadline rather than all of them late. A request that
+    /// gets no turn within [`COSTLY_WAIT`] (nor before its deadline) is overload: 503 with
+    /// Retry-After at once, never an answer long after the robot stopped waiting. A heavy
+    /// request (over [`HEAVY_STEPS`]) takes a heavy turn first, then a core's: the wait bounds
+    /// both.
+    async fn turn_for(&self, steps: u128, deadline: Instant) -> Result<Option<Turn>, Error> {
+        if steps <= INLINE_STEPS {
+            return Ok(None);
+        }
         let until = (Instant::now() + COSTLY_WAIT).min(deadline);
         let turn = async {
             let heavy = match steps > HEAVY_STEPS {
@@ -285,7 +286,7 @@ impl Core {
             })
         };
         match tokio::time::timeout_at(until.into(), turn).await {
-            Ok(Ok(turn)) => Ok(turn),
+            Ok(Ok(turn)) => Ok(Some(turn)),
             Ok(Err(_)) | Err(_) => {
                 self.metrics.overloaded.inc();
                 Err(Error::Overloaded { retry_after_s: 1 })
@@ -302,11 +303,7 @@ impl Core {
         let steps: u128 = (input.steps.iter())
             .map(|s| u128::from(library.expansion(s.name().map_or("", |n| &**n), s.arity())))
             .sum();
-        let turn = if steps <= INLINE_STEPS {
-            None
-        } else {
-            Some(self.costly_turn(steps, deadline).await?)
-        };
+        let turn = self.turn_for(steps, deadline).await?;
         let metrics = self.metrics.clone();
         tokio::task::spawn_blocking(move || {
             let _turn = turn;
