@@ -45,17 +45,16 @@ pub fn describe_object(scene: &Scene, object: &Object) -> String {
 /// [`describe_object`], given how many other objects are of its type and how to list them (in
 /// scene order): they are listed only once a feature is tried, so that an object with none (most,
 /// in a large scene of one type) is described by counting them.
-fn describe_among<'s>(object: &Object, others: usize, list: impl FnOnce() -> Vec<&'s Object>) -> String {
+fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s Object>) -> String {
     let features = object
         .properties
         .iter()
         .map(|p| Feature::Property(p))
         .chain(object.attributes.iter().map(|(k, v)| Feature::Attribute(k, v)));
-    let (mut list, mut distractors) = (Some(list), None);
+    let mut distractors: Option<Vec<&Object>> = None;
     let mut words = vec!["the".to_owned()];
     for feature in features {
-        let remaining: &mut Vec<&Object> =
-            distractors.get_or_insert_with(|| list.take().map_or_else(Vec::new, |l| l()));
+        let remaining = distractors.get_or_insert_with(&list);
         if remaining.is_empty() {
             break;
         }
