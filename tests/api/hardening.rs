@@ -376,6 +376,25 @@ async fn store_costly_library(app: &TestApp) {
     );
 }
 
+/// `pair` over every two of 60 cups, with [`store_costly_library`]: 3,600 readings of 2,577
+/// steps each, far more work than any deadline here allows.
+fn costly_pairs(deadline_ms: u64) -> Value {
+    json!({
+        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
+        "scene": many_cups(60),
+        "options": {"deadline_ms": deadline_ms},
+    })
+}
+
+/// The `scruple_simulations_in_flight` line of a scrape of `/metrics` (empty if there is none).
+async fn in_flight_line(app: &TestApp) -> String {
+    let metrics = app.get("/metrics").await.text().await.unwrap();
+    (metrics.lines())
+        .find(|l| l.starts_with("scruple_simulations_in_flight "))
+        .unwrap_or_default()
+        .to_owned()
+}
+
 fn many_cups(n: usize) -> Value {
     let colours: Vec<String> = (0..n).map(|i| format!("c{i}")).collect();
     let refs: Vec<&str> = colours.iter().map(String::as_str).collect();
@@ -408,11 +427,7 @@ async fn expansion_is_bounded_when_stored_and_stops_at_the_deadline() {
     );
 
     // 3,600 readings of 2,577 steps each: far more than 300 ms of work.
-    let request = json!({
-        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
-        "scene": many_cups(60),
-        "options": {"deadline_ms": 300},
-    });
+    let request = costly_pairs(300);
     let client = reqwest::Client::builder()
         .timeout(std::time::Duration::from_secs(20))
         .build()
@@ -481,11 +496,7 @@ async fn expansion_is_bounded_when_stored_and_stops_at_the_deadline() {
 async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile() {
     let app = spawn_app().await;
     store_costly_library(&app).await;
-    let request = json!({
-        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
-        "scene": many_cups(60),
-        "options": {"deadline_ms": 60000},
-    });
+    let request = costly_pairs(60000);
     let impatient = reqwest::Client::builder()
         .timeout(std::time::Duration::from_millis(500))
         .build()
@@ -509,12 +520,7 @@ async fn a_client_that_leaves_cancels_its_decision_and_health_answers_meanwhile(
     // The abandoned simulations stop (they would have run to their 60 s deadline).
     let mut in_flight = String::new();
     for _ in 0..100 {
-        let metrics = app.get("/metrics").await.text().await.unwrap();
-        in_flight = metrics
-            .lines()
-            .find(|l| l.starts_with("scruple_simulations_in_flight "))
-            .unwrap_or_default()
-            .to_owned();
+        in_flight = in_flight_line(&app).await;
         if in_flight == "scruple_simulations_in_flight 0" {
             break;
         }
@@ -559,11 +565,7 @@ async fn heavy_requests_leave_a_core_to_a_request_of_middling_cost() {
     }
     let app = spawn_app().await;
     store_costly_library(&app).await;
-    let heavy = json!({
-        "directive": {"action": "pair", "arguments": [{"type": "cup"}, {"type": "cup"}]},
-        "scene": many_cups(60),
-        "options": {"deadline_ms": 4000},
-    });
+    let heavy = costly_pairs(4000);
     // One more heavy request than there are cores: without the heavy lane they would hold
     // every turn.
     let flood: Vec<_> = (0..=cores)
@@ -574,11 +576,9 @@ async fn heavy_requests_leave_a_core_to_a_request_of_middling_cost() {
         .collect();
     let mut running = false;
     for _ in 0..200 {
-        let metrics = app.get("/metrics").await.text().await.unwrap();
-        running = metrics.lines().any(|l| {
-            l.strip_prefix("scruple_simulations_in_flight ")
-                .is_some_and(|n| n.trim() != "0")
-        });
+        running = (in_flight_line(&app).await)
+            .strip_prefix("scruple_simulations_in_flight ")
+            .is_some_and(|n| n.trim() != "0");
         if running {
             break;
         }
