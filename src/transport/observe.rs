@@ -132,36 +132,44 @@ async fn measured(observer: Arc<Observer>, mut request: Request, next: Next) -> 
     response
 }
 
-/// Fresh request ids: UUID-shaped (version 4, RFC 9562 §5.4), unique within the process by a
-/// counter and across processes by a key drawn once at start. An id names a request in logs; it
-/// is no secret, so a system random read per request (what a v4 UUID generator makes) is not
-/// spent on it.
+/// Fresh request ids: UUID-shaped (version 4, RFC 9562 §5.4). The `n`th id is `n` under a
+/// permutation keyed once per process, so ids never repeat within a process, cannot be told
+/// from random ones, and do not tell a client how many requests came between two of its own.
+/// A system random read per request (what a v4 UUID generator makes) is not spent on them.
 #[derive(Clone)]
 pub struct RequestIds {
-    key: u64,
+    /// SipHash keys drawn from the system's randomness: the round function of the permutation.
+    keys: std::collections::hash_map::RandomState,
     next: Arc<AtomicU64>,
 }
 
+/// Half of an id's 122 free bits.
+const HALF: u32 = 61;
+const HALF_MASK: u128 = (1 << HALF) - 1;
+
 impl RequestIds {
     pub fn new() -> RequestIds {
-        use std::hash::{BuildHasher, Hasher};
-        // std's hasher keys are drawn from the system's randomness, once per thread.
-        let mut seed = std::collections::hash_map::RandomState::new().build_hasher();
-        seed.write_u64(std::process::id().into());
         RequestIds {
-            key: seed.finish(),
+            keys: std::collections::hash_map::RandomState::new(),
             next: Arc::new(AtomicU64::new(0)),
         }
     }
 
-    /// The `n`th id: the low half carries `n` itself (under the key, below the variant bits),
-    /// so no two `n` below 2^62 give the same id; the high half only makes ids look unrelated.
+    /// The `n`th id: a four-round Feistel network over 122 bits (two halves of 61), a
+    /// permutation whatever its round function, so distinct `n` (below 2^61) give distinct ids.
     fn id(&self, n: u64) -> String {
-        let high = mix(n ^ self.key);
-        let low = (n ^ self.key.rotate_left(32)) & !(0x3 << 62);
-        let bits = ((u128::from(high) << 64) | u128::from(low)) & !(0xf << 76);
-        let bits = bits | (0x4 << 76) | (0x2 << 62);
-        let hex = format!("{bits:032x}");
+        use std::hash::BuildHasher;
+        let (mut left, mut right) = (0u128, u128::from(n));
+        for round in 0..4u8 {
+            let f = u128::from(self.keys.hash_one((round, right as u64)));
+            (left, right) = (right, (left ^ f) & HALF_MASK);
+        }
+        let bits = (left << HALF) | right;
+        // 60 bits before the variant, 62 after; the version nibble within the first part.
+        let (a, b) = (bits >> 62, bits & ((1 << 62) - 1));
+        let high = ((a >> 12) << 16) | (0x4 << 12) | (a & 0xfff);
+        let low = (0x2 << 62) | b;
+        let hex = format!("{:032x}", (high << 64) | low);
         format!(
             "{}-{}-{}-{}-{}",
             &hex[..8],
@@ -177,13 +185,6 @@ impl Default for RequestIds {
     fn default() -> Self {
         RequestIds::new()
     }
-}
-
-fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 impl tower_http::request_id::MakeRequestId for RequestIds {
@@ -231,6 +232,9 @@ mod tests {
             );
             assert!(seen.insert(id));
         }
+        // Consecutive ids share no run a client could count requests by.
+        let tail = |n| u64::from_str_radix(&ids.id(n)[24..], 16).unwrap();
+        assert!((0..1000).all(|n| tail(n + 1).wrapping_sub(tail(n)) != 1));
         // Another process draws another key.
         assert_ne!(RequestIds::new().id(0), ids.id(0));
     }
