@@ -10,8 +10,6 @@ use std::time::Duration;
 
 use tokio::net::TcpListener;
 
-use axum::http::HeaderName;
-use tower_http::request_id::{PropagateRequestIdLayer, SetRequestIdLayer};
 
 use crate::core::Core;
 use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
@@ -22,7 +20,7 @@ use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
 use crate::transport::conn::{self, ConnConfig};
 use crate::transport::tls::{Tls, TlsFiles};
-use crate::transport::{AppState, grpc, observe, rest};
+use crate::transport::{AppState, Shared, grpc, observe, rest};
 
 /// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
 pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
@@ -129,7 +127,7 @@ impl Application {
         let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
         let metrics = Arc::new(Metrics::new());
-        let state = AppState {
+        let state = AppState::new(Shared {
             core: Arc::new(Core::new(
                 store,
                 metrics.clone(),
@@ -142,7 +140,7 @@ impl Application {
             tokens: Arc::new(tokens),
             max_body_bytes: config.max_body_bytes,
             metrics: metrics.clone(),
-        };
+        });
         let listener = TcpListener::bind(&config.listen)
             .await
             .map_err(|source| StartError::Listen {
@@ -171,9 +169,9 @@ impl Application {
 /// REST and gRPC on one router. gRPC's routes bring a fallback that answers any path with
 /// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
-/// Layers, outermost first: a request id (the caller's `x-request-id`, or a fresh UUID) set and
-/// echoed on the response; the span carrying it, with metrics (`observe`); admission. A refused
-/// request is still traced and counted.
+/// Layers, outermost first: observing (a request id, the caller's `x-request-id` or a fresh
+/// UUID, set and echoed on the response; the span carrying it; metrics), then admission. A
+/// refused request is still traced and counted.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
@@ -185,13 +183,10 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         ],
     );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
-    let request_id = HeaderName::from_static(observe::REQUEST_ID);
     Ok(rest::router(state)
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
-        .layer(axum::middleware::from_fn_with_state(admission, admission::admit))
-        .layer(axum::middleware::from_fn_with_state(observer, observe::observe))
-        .layer(PropagateRequestIdLayer::new(request_id.clone()))
-        .layer(SetRequestIdLayer::new(request_id, observe::RequestIds::new())))
+        .layer(admission::AdmitLayer(admission))
+        .layer(observe::ObserveLayer::new(observer)))
 }

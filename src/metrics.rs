@@ -5,7 +5,9 @@
 //! content (no words, speaker ids, object ids or raw paths: routes are templates), so label
 //! sets stay few and nothing private reaches a scrape.
 
-use prometheus_client::encoding::EncodeLabelSet;
+use std::sync::{Arc, OnceLock};
+
+use prometheus_client::encoding::{EncodeLabelSet, EncodeLabelValue, LabelValueEncoder};
 use prometheus_client::encoding::text::encode;
 use prometheus_client::metrics::counter::Counter;
 use prometheus_client::metrics::family::Family;
@@ -15,25 +17,50 @@ use prometheus_client::registry::Registry;
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 pub struct RequestLabels {
-    /// The route template (`/v1/norms/{id}`), the gRPC method path, or `unmatched`.
-    pub route: String,
+    /// The route template (`/v1/norms/{id}`), the gRPC method path, or `unmatched`: one of a
+    /// few texts, shared rather than copied per request.
+    pub route: Arc<str>,
     /// One of the standard methods, or `other`.
     pub method: &'static str,
-    /// The HTTP status the service answered; for gRPC, the `grpc-status` code (0..=16, or
-    /// `other`) when the call failed in its head, else 0.
-    pub status: String,
+    pub status: Status,
+}
+
+/// The HTTP status the service answered; for gRPC, the `grpc-status` code (0..=16, or
+/// `other`) when the call failed in its head, else 0. Written as its number either way.
+#[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
+pub enum Status {
+    Http(u16),
+    Grpc(&'static str),
+}
+
+impl std::fmt::Display for Status {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Status::Http(code) => write!(f, "{code}"),
+            Status::Grpc(code) => f.write_str(code),
+        }
+    }
+}
+
+impl EncodeLabelValue for Status {
+    fn encode(&self, encoder: &mut LabelValueEncoder) -> Result<(), std::fmt::Error> {
+        match self {
+            Status::Http(code) => EncodeLabelValue::encode(code, encoder),
+            Status::Grpc(code) => EncodeLabelValue::encode(code, encoder),
+        }
+    }
 }
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 pub struct RouteLabels {
-    pub route: String,
+    pub route: Arc<str>,
     /// One of the standard methods, or `other`.
     pub method: &'static str,
 }
 
 #[derive(Clone, Debug, Hash, PartialEq, Eq, EncodeLabelSet)]
 pub struct DecisionLabels {
-    pub kind: String,
+    pub kind: &'static str,
 }
 
 #[derive(Clone, Copy, Debug, Hash, PartialEq, Eq)]
@@ -73,6 +100,9 @@ pub struct Metrics {
     /// Readings simulated per decision (not counting those a limit left unsimulated).
     pub readings: Histogram,
     pub cache: Family<CacheLabels, Counter>,
+    /// Each (cache, outcome) series of `cache`, looked up once, at its first count: counted on
+    /// every request, so neither a lock nor a hash is spent on it after that.
+    cache_series: [OnceLock<Counter>; 4],
     /// Requests refused by admission control (503 / UNAVAILABLE).
     pub overloaded: Counter,
     /// Decisions and checks being simulated right now; work whose client left stops within a
@@ -141,6 +171,7 @@ impl Metrics {
             decisions,
             readings,
             cache,
+            cache_series: Default::default(),
             overloaded,
         }
     }
@@ -156,7 +187,9 @@ impl Metrics {
                 Outcome::Refresh => "refresh",
             },
         };
-        self.cache.get_or_create(&labels).inc();
+        self.cache_series[cache as usize * 2 + outcome as usize]
+            .get_or_init(|| self.cache.get_or_create(&labels).clone())
+            .inc();
     }
 
     /// The OpenMetrics text exposition of every metric.

@@ -243,7 +243,7 @@ impl Core {
                 .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??
         };
         let kind = DecisionLabels {
-            kind: decision.kind.as_str().to_owned(),
+            kind: decision.kind.as_str(),
         };
         self.metrics.decisions.get_or_create(&kind).inc();
         self.metrics.readings.observe(decision.interpretations.len() as f64);

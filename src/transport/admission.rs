@@ -5,14 +5,17 @@
 //! Must not: hold a request's work itself, or queue the probes (`/healthz`, gRPC health), which
 //! must answer even under load.
 
+use std::convert::Infallible;
+use std::future::Future;
+use std::pin::Pin;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::task::{Context, Poll};
 use std::time::Duration;
 
-use axum::extract::{Request, State};
-use axum::middleware::Next;
+use axum::extract::Request;
 use axum::response::{IntoResponse, Response};
-use tokio::sync::Semaphore;
+use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 
 use crate::error::Error;
 
@@ -44,7 +47,7 @@ impl Default for AdmissionConfig {
 
 pub struct Admission {
     metrics: Arc<crate::metrics::Metrics>,
-    permits: Semaphore,
+    permits: Arc<Semaphore>,
     waiting: AtomicUsize,
     config: AdmissionConfig,
 }
@@ -56,7 +59,7 @@ impl Admission {
     pub fn new(config: AdmissionConfig, metrics: Arc<crate::metrics::Metrics>) -> Arc<Admission> {
         Arc::new(Admission {
             metrics,
-            permits: Semaphore::new(config.max_concurrent.max(1)),
+            permits: Arc::new(Semaphore::new(config.max_concurrent.max(1))),
             waiting: AtomicUsize::new(0),
             config,
         })
@@ -86,27 +89,109 @@ impl Drop for Waiting<'_> {
     }
 }
 
-pub async fn admit(State(admission): State<Arc<Admission>>, request: Request, next: Next) -> Response {
-    if is_probe(request.uri().path()) {
-        return next.run(request).await;
+/// The layer that admits each request (see the module), written as a plain service so that a
+/// request with a turn free at once costs a permit and nothing else: no boxed future, no copy
+/// of the service under it.
+#[derive(Clone)]
+pub struct AdmitLayer(pub Arc<Admission>);
+
+impl<S> tower::Layer<S> for AdmitLayer {
+    type Service = Admit<S>;
+
+    fn layer(&self, inner: S) -> Admit<S> {
+        Admit {
+            inner,
+            admission: self.0.clone(),
+        }
     }
-    let permit = match admission.permits.try_acquire() {
-        Ok(permit) => permit,
-        Err(_) => {
-            let queued = admission.waiting.fetch_add(1, Ordering::AcqRel);
-            let _waiting = Waiting(&admission.waiting);
-            if queued >= admission.config.max_queued {
-                return refuse(&admission, &request);
+}
+
+#[derive(Clone)]
+pub struct Admit<S> {
+    inner: S,
+    admission: Arc<Admission>,
+}
+
+type Waited = Pin<Box<dyn Future<Output = Result<Response, Infallible>> + Send>>;
+
+pin_project_lite::pin_project! {
+    /// A request with its turn (held until its answer is made), or one waiting for a turn.
+    #[project = AdmittedProjection]
+    pub enum Admitted<F> {
+        Now { #[pin] answer: F, turn: Option<OwnedSemaphorePermit> },
+        Queued { waited: Waited },
+    }
+}
+
+impl<F: Future<Output = Result<Response, Infallible>>> Future for Admitted<F> {
+    type Output = Result<Response, Infallible>;
+
+    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Self::Output> {
+        match self.project() {
+            AdmittedProjection::Now { answer, turn } => {
+                let answer = std::task::ready!(answer.poll(cx));
+                drop(turn.take());
+                Poll::Ready(answer)
             }
-            match tokio::time::timeout(admission.config.queue_timeout, admission.permits.acquire()).await {
-                Ok(Ok(permit)) => permit,
-                // Timed out, or the semaphore closed (never: it is not closed while serving).
-                Ok(Err(_)) | Err(_) => return refuse(&admission, &request),
-            }
+            AdmittedProjection::Queued { waited } => waited.as_mut().poll(cx),
+        }
+    }
+}
+
+impl<S> tower::Service<Request> for Admit<S>
+where
+    S: tower::Service<Request, Response = Response, Error = Infallible> + Clone + Send + 'static,
+    S::Future: Send + 'static,
+{
+    type Response = Response;
+    type Error = Infallible;
+    type Future = Admitted<S::Future>;
+
+    fn poll_ready(&mut self, cx: &mut Context<'_>) -> Poll<Result<(), Infallible>> {
+        self.inner.poll_ready(cx)
+    }
+
+    fn call(&mut self, request: Request) -> Admitted<S::Future> {
+        if is_probe(request.uri().path()) {
+            return Admitted::Now {
+                answer: self.inner.call(request),
+                turn: None,
+            };
+        }
+        if let Ok(turn) = self.admission.permits.clone().try_acquire_owned() {
+            return Admitted::Now {
+                answer: self.inner.call(request),
+                turn: Some(turn),
+            };
+        }
+        // The service made ready is the one that is called, after the wait (tower's contract).
+        let ready = self.inner.clone();
+        let inner = std::mem::replace(&mut self.inner, ready);
+        Admitted::Queued {
+            waited: Box::pin(queued(self.admission.clone(), inner, request)),
+        }
+    }
+}
+
+/// A request that found every turn taken: it waits for one in the bounded queue, or is refused.
+async fn queued<S>(admission: Arc<Admission>, mut inner: S, request: Request) -> Result<Response, Infallible>
+where
+    S: tower::Service<Request, Response = Response, Error = Infallible>,
+{
+    let turn = {
+        let queued = admission.waiting.fetch_add(1, Ordering::AcqRel);
+        let _waiting = Waiting(&admission.waiting);
+        if queued >= admission.config.max_queued {
+            return Ok(refuse(&admission, &request));
+        }
+        match tokio::time::timeout(admission.config.queue_timeout, admission.permits.clone().acquire_owned()).await {
+            Ok(Ok(turn)) => turn,
+            // Timed out, or the semaphore closed (never: it is not closed while serving).
+            Ok(Err(_)) | Err(_) => return Ok(refuse(&admission, &request)),
         }
     };
-    let response = next.run(request).await;
-    drop(permit);
+    let response = inner.call(request).await;
+    drop(turn);
     response
 }
 

@@ -7,18 +7,22 @@
 //! `other`, statuses the ones the service answers with; the words stay out of spans.
 
 use std::collections::HashSet;
+use std::convert::Infallible;
+use std::future::Future;
+use std::pin::Pin;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::RwLock;
+use std::task::{Context, Poll};
 use std::time::Instant;
 
-use axum::extract::{MatchedPath, Request, State};
-use axum::http::Method;
-use axum::middleware::Next;
+use axum::extract::{MatchedPath, Request};
+use axum::http::{HeaderValue, Method};
 use axum::response::Response;
 use prost::Message;
 use tracing::Instrument;
 
-use crate::metrics::{Metrics, RequestLabels, RouteLabels};
+use crate::metrics::{Metrics, RequestLabels, RouteLabels, Status};
 
 /// The header a request id travels in, both ways.
 pub const REQUEST_ID: &str = "x-request-id";
@@ -27,7 +31,11 @@ pub const REQUEST_ID: &str = "x-request-id";
 /// a label only when it names one of them, whatever the answer).
 pub struct Observer {
     pub metrics: Arc<Metrics>,
-    grpc_methods: HashSet<String>,
+    grpc_methods: HashSet<Arc<str>>,
+    /// The route templates met so far, each text kept once: a template is one of the router's
+    /// few, so this stays as small as the router.
+    routes: RwLock<HashSet<Arc<str>>>,
+    unmatched: Arc<str>,
 }
 
 impl Observer {
@@ -47,12 +55,32 @@ impl Observer {
                             "" => service.name().to_owned(),
                             package => format!("{package}.{}", service.name()),
                         };
-                        grpc_methods.insert(format!("/{service}/{}", method.name()));
+                        grpc_methods.insert(Arc::from(format!("/{service}/{}", method.name())));
                     }
                 }
             }
         }
-        Arc::new(Observer { metrics, grpc_methods })
+        Arc::new(Observer {
+            metrics,
+            grpc_methods,
+            routes: RwLock::default(),
+            unmatched: Arc::from("unmatched"),
+        })
+    }
+
+    /// The shared text of a route template.
+    fn template(&self, template: &str) -> Arc<str> {
+        // A poisoned set is still a set of templates: nothing that can panic runs under it.
+        if let Some(route) = self.routes.read().unwrap_or_else(|e| e.into_inner()).get(template) {
+            return route.clone();
+        }
+        let mut routes = self.routes.write().unwrap_or_else(|e| e.into_inner());
+        if let Some(route) = routes.get(template) {
+            return route.clone();
+        }
+        let route: Arc<str> = Arc::from(template);
+        routes.insert(route.clone());
+        route
     }
 }
 
@@ -85,51 +113,157 @@ fn grpc_status_label(value: &[u8]) -> &'static str {
         .unwrap_or("other")
 }
 
-/// Counts and times each request, inside its span: every log line of the request carries it.
-pub async fn observe(State(observer): State<Arc<Observer>>, request: Request, next: Next) -> Response {
-    let span = span(&request);
-    measured(observer, request, next).instrument(span).await
+/// The observing layer: gives each request its id (the caller's `x-request-id`, or a fresh one)
+/// and echoes it on the answer, runs the request inside its span, and counts and times it.
+/// A plain service, so that observing costs no boxed future and no copy of the service under it.
+#[derive(Clone)]
+pub struct ObserveLayer {
+    observer: Arc<Observer>,
+    ids: RequestIds,
 }
 
-async fn measured(observer: Arc<Observer>, mut request: Request, next: Next) -> Response {
-    let started = Instant::now();
-    request.extensions_mut().insert(crate::transport::Arrival(started));
-    let method = method_label(request.method());
-    let grpc = request
-        .headers()
-        .get(axum::http::header::CONTENT_TYPE)
-        .and_then(|v| v.to_str().ok())
-        .is_some_and(|t| t.starts_with("application/grpc"));
-    let matched = request.extensions().get::<MatchedPath>().map(|m| m.as_str().to_owned());
-    let known_grpc_method = grpc && observer.grpc_methods.contains(request.uri().path());
-    let path = known_grpc_method.then(|| request.uri().path().to_owned());
-    let response = next.run(request).await;
-    let (route, status) = if grpc {
-        // A good call's code is in the trailers, after this; a failed one's is in the head.
-        let status = response
+impl ObserveLayer {
+    pub fn new(observer: Arc<Observer>) -> ObserveLayer {
+        ObserveLayer {
+            observer,
+            ids: RequestIds::new(),
+        }
+    }
+}
+
+impl<S> tower::Layer<S> for ObserveLayer {
+    type Service = Observe<S>;
+
+    fn layer(&self, inner: S) -> Observe<S> {
+        Observe {
+            inner,
+            layer: self.clone(),
+        }
+    }
+}
+
+#[derive(Clone)]
+pub struct Observe<S> {
+    inner: S,
+    layer: ObserveLayer,
+}
+
+/// What is known of a request before its answer: enough to label and time the answer.
+struct Asked {
+    observer: Arc<Observer>,
+    started: Instant,
+    method: &'static str,
+    /// For gRPC, the method path when it names one that exists, else `unmatched`; for REST,
+    /// the route template, or `unmatched`.
+    route: Arc<str>,
+    grpc: bool,
+    id: HeaderValue,
+}
+
+pin_project_lite::pin_project! {
+    pub struct Observed<F> {
+        #[pin]
+        answer: tracing::instrument::Instrumented<F>,
+        asked: Option<Asked>,
+    }
+}
+
+impl<S> tower::Service<Request> for Observe<S>
+where
+    S: tower::Service<Request, Response = Response, Error = Infallible>,
+{
+    type Response = Response;
+    type Error = Infallible;
+    type Future = Observed<S::Future>;
+
+    fn poll_ready(&mut self, cx: &mut Context<'_>) -> Poll<Result<(), Infallible>> {
+        self.inner.poll_ready(cx)
+    }
+
+    fn call(&mut self, mut request: Request) -> Observed<S::Future> {
+        let started = Instant::now();
+        let id = match request.headers().get(REQUEST_ID) {
+            Some(id) => id.clone(),
+            None => {
+                let id = self.layer.ids.next();
+                request.headers_mut().insert(REQUEST_ID, id.clone());
+                id
+            }
+        };
+        request.extensions_mut().insert(crate::transport::Arrival(started));
+        let observer = &self.layer.observer;
+        let grpc = request
             .headers()
-            .get("grpc-status")
-            .map_or("0", |v| grpc_status_label(v.as_bytes()));
-        (path.unwrap_or_else(|| "unmatched".to_owned()), status.to_owned())
-    } else {
-        let route = matched.unwrap_or_else(|| "unmatched".to_owned());
-        (route, response.status().as_u16().to_string())
-    };
-    let metrics = &observer.metrics;
-    let seconds = started.elapsed().as_secs_f64();
-    tracing::debug!(status = status.as_str(), seconds, "answered");
-    metrics
-        .latency
-        .get_or_create(&RouteLabels {
-            route: route.clone(),
-            method,
-        })
-        .observe(seconds);
-    metrics
-        .requests
-        .get_or_create(&RequestLabels { route, method, status })
-        .inc();
-    response
+            .get(axum::http::header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .is_some_and(|t| t.starts_with("application/grpc"));
+        let route = if grpc {
+            observer.grpc_methods.get(request.uri().path()).cloned()
+        } else {
+            request.extensions().get::<MatchedPath>().map(|m| observer.template(m.as_str()))
+        };
+        let span = span(&request, &id);
+        let asked = Asked {
+            observer: observer.clone(),
+            started,
+            method: method_label(request.method()),
+            route: route.unwrap_or_else(|| observer.unmatched.clone()),
+            grpc,
+            id,
+        };
+        Observed {
+            answer: self.inner.call(request).instrument(span),
+            asked: Some(asked),
+        }
+    }
+}
+
+impl<F: Future<Output = Result<Response, Infallible>>> Future for Observed<F> {
+    type Output = Result<Response, Infallible>;
+
+    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Self::Output> {
+        let mut this = self.project();
+        let Ok(mut response) = std::task::ready!(this.answer.as_mut().poll(cx));
+        // Polled once more after its answer, a future has nothing left to count.
+        let Some(asked) = this.asked.take() else {
+            return Poll::Ready(Ok(response));
+        };
+        let status = if asked.grpc {
+            // A good call's code is in the trailers, after this; a failed one's is in the head.
+            Status::Grpc(
+                response
+                    .headers()
+                    .get("grpc-status")
+                    .map_or("0", |v| grpc_status_label(v.as_bytes())),
+            )
+        } else {
+            Status::Http(response.status().as_u16())
+        };
+        let seconds = asked.started.elapsed().as_secs_f64();
+        this.answer
+            .span()
+            .in_scope(|| tracing::debug!(status = %status, seconds, "answered"));
+        let metrics = &asked.observer.metrics;
+        metrics
+            .latency
+            .get_or_create(&RouteLabels {
+                route: asked.route.clone(),
+                method: asked.method,
+            })
+            .observe(seconds);
+        metrics
+            .requests
+            .get_or_create(&RequestLabels {
+                route: asked.route,
+                method: asked.method,
+                status,
+            })
+            .inc();
+        if !response.headers().contains_key(REQUEST_ID) {
+            response.headers_mut().insert(REQUEST_ID, asked.id);
+        }
+        Poll::Ready(Ok(response))
+    }
 }
 
 /// Fresh request ids: UUID-shaped (version 4, RFC 9562 §5.4). The `n`th id is `n` under a
@@ -153,6 +287,13 @@ impl RequestIds {
             keys: std::collections::hash_map::RandomState::new(),
             next: Arc::new(AtomicU64::new(0)),
         }
+    }
+
+    /// The next id, as a header value.
+    fn next(&self) -> HeaderValue {
+        let n = self.next.fetch_add(1, Ordering::Relaxed);
+        // Hex digits and dashes only: always a valid header value.
+        HeaderValue::from_str(&self.id(n)).unwrap_or(HeaderValue::from_static("unnumbered"))
     }
 
     /// The `n`th id: a four-round Feistel network over 122 bits (two halves of 61), a
@@ -187,21 +328,9 @@ impl Default for RequestIds {
     }
 }
 
-impl tower_http::request_id::MakeRequestId for RequestIds {
-    fn make_request_id<B>(&mut self, _: &axum::http::Request<B>) -> Option<tower_http::request_id::RequestId> {
-        let n = self.next.fetch_add(1, Ordering::Relaxed);
-        let id = axum::http::HeaderValue::from_str(&self.id(n)).ok()?;
-        Some(tower_http::request_id::RequestId::new(id))
-    }
-}
-
 /// The span of one request: method, path and request id, nothing from the body.
-fn span(request: &axum::http::Request<axum::body::Body>) -> tracing::Span {
-    let id = request
-        .headers()
-        .get(REQUEST_ID)
-        .and_then(|v| v.to_str().ok())
-        .unwrap_or_default();
+fn span(request: &Request, id: &HeaderValue) -> tracing::Span {
+    let id = id.to_str().unwrap_or_default();
     tracing::info_span!("request", method = %request.method(), path = %request.uri().path(), request_id = %id)
 }
 
