@@ -145,16 +145,23 @@ impl Core {
     /// The knowledge, if it can be had before `deadline`; a store too busy to answer by then is
     /// overload (503 with Retry-After), so a decision is never answered late for want of it.
     pub(super) async fn knowledge_by(&self, deadline: Instant) -> Result<Knowledge, Error> {
-        // Under a lease nothing is awaited, so nothing can be late: no timer is set. A failed
-        // check is made again below, where readiness notes it.
-        if let Ok(Some(knowledge)) = self.leased(Some(&self.metrics)) {
-            return Ok(knowledge);
-        }
-        // A little past the deadline, so that a request whose deadline is (nearly) spent still
-        // gets its answer with `limits` when the store is quick, as it is unless overloaded.
-        tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), self.knowledge())
+        // Under a lease nothing is awaited, so nothing can be late: no timer is set. The file
+        // was checked here once; the read below does not check it again before it waits.
+        let outcome = match self.leased(Some(&self.metrics)) {
+            Ok(Some(knowledge)) => return Ok(knowledge),
+            // A little past the deadline, so that a request whose deadline is (nearly) spent
+            // still gets its answer with `limits` when the store is quick, as it is unless
+            // overloaded.
+            Ok(None) => tokio::time::timeout_at(
+                (deadline + KNOWLEDGE_GRACE).into(),
+                self.read_knowledge(Some(&self.metrics), Read::UnlessLeased),
+            )
             .await
-            .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }))
+            .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 })),
+            Err(e) => Err(e),
+        };
+        self.note_readiness(&outcome);
+        outcome
     }
 
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
@@ -178,6 +185,11 @@ impl Core {
             Source::Store(store) => store,
         };
         store.still_there().map_err(|e| e.answer(Error::NormsUnavailable))?;
+        self.lease_hit(metrics)
+    }
+
+    /// The knowledge of the lease, if it holds now; the file is not looked at.
+    fn lease_hit(&self, metrics: Option<&Metrics>) -> Result<Option<Knowledge>, Error> {
         let lease = self.lease.read().map_err(|_| poisoned())?;
         let Some(leased) = lease.as_ref().filter(|l| l.from.elapsed() < self.settings.lease) else {
             return Ok(None);
@@ -205,9 +217,10 @@ impl Core {
             false => Some(self.refreshing.lock().await),
         };
         if read == Read::UnlessLeased
-            && let Some(knowledge) = self.leased(metrics)?
+            && let Some(knowledge) = self.lease_hit(metrics)?
         {
-            // Read by the request this one waited for, after this one began.
+            // Read by the request this one waited for, after this one began (and looked at the
+            // file: it has not been looked at since only by the time spent waiting here).
             return Ok(knowledge);
         }
         // Waiting for a connection is overload, never "norms unavailable".
