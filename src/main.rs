@@ -25,7 +25,9 @@ use scruple::transport::conn::{
     DEFAULT_MAX_CONNECTIONS,
 };
 use scruple::transport::tls::TlsFiles;
-use tracing_subscriber::EnvFilter;
+use tracing_subscriber::layer::{Context, Layered, SubscriberExt};
+use tracing_subscriber::util::SubscriberInitExt;
+use tracing_subscriber::{EnvFilter, Layer, Registry};
 
 /// mimalloc instead of glibc's malloc: a request allocates and frees many small blocks across
 /// the runtime's threads, where glibc spent about a tenth of the service's time under load
@@ -303,16 +305,44 @@ enum LogFormat {
 
 /// Offline commands report on stdout and stderr themselves; their log only speaks of trouble.
 fn init_logs(format: LogFormat, level: &str) {
-    let filter = EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(level));
-    let logs = tracing_subscriber::fmt()
-        .with_env_filter(filter)
+    let from_env = std::env::var(EnvFilter::DEFAULT_ENV)
+        .ok()
+        .and_then(|directives| EnvFilter::try_new(&directives).ok().map(|filter| (directives, filter)));
+    let (directives, filter) = from_env.unwrap_or_else(|| (level.to_owned(), EnvFilter::new(level)));
+    // Only a directive on spans (`target[span{field=value}]=level`) has `[`: without one, the
+    // filter's bookkeeping on entering and leaving each span (a shared lock each time) serves
+    // nothing, and the filter is consulted per callsite and event only.
+    let filter: Box<dyn Layer<Registry> + Send + Sync> = match directives.contains('[') {
+        true => Box::new(filter),
+        false => Box::new(OnEvents(filter)),
+    };
+    let logs = tracing_subscriber::fmt::layer()
         // Colour codes only for a person at a terminal: a log file or collector gets plain text,
         // and each request's span is not dressed in escapes no one will see.
         .with_ansi(std::io::stderr().is_terminal())
         .with_writer(std::io::stderr);
-    match format {
-        LogFormat::Text => logs.init(),
-        LogFormat::Json => logs.json().with_current_span(true).with_span_list(false).init(),
+    let logs: Box<dyn Layer<Layered<Box<dyn Layer<Registry> + Send + Sync>, Registry>> + Send + Sync> = match format {
+        LogFormat::Text => Box::new(logs),
+        LogFormat::Json => Box::new(logs.json().with_current_span(true).with_span_list(false)),
+    };
+    tracing_subscriber::registry().with(filter).with(logs).init();
+}
+
+/// An [`EnvFilter`] of static directives (targets and levels): which callsites and events are
+/// on, and nothing per span.
+struct OnEvents(EnvFilter);
+
+impl<S: tracing::Subscriber> Layer<S> for OnEvents {
+    fn register_callsite(&self, metadata: &'static tracing::Metadata<'static>) -> tracing::subscriber::Interest {
+        Layer::<S>::register_callsite(&self.0, metadata)
+    }
+
+    fn max_level_hint(&self) -> Option<tracing::level_filters::LevelFilter> {
+        Layer::<S>::max_level_hint(&self.0)
+    }
+
+    fn enabled(&self, metadata: &tracing::Metadata<'_>, context: Context<'_, S>) -> bool {
+        Layer::<S>::enabled(&self.0, metadata, context)
     }
 }
 
