@@ -18,6 +18,10 @@ use scruple::engine::{Library, clarify};
 use scruple::wire::ClarifyBody;
 use serde_json::{Value, json};
 
+/// The service's allocator (`src/main.rs`), so that the engine is measured as it runs there.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn paper() -> Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/paper-demo.json");
     serde_json::from_str(&std::fs::read_to_string(path).expect("../shared/scenarios/paper-demo.json")).unwrap()

@@ -20,7 +20,7 @@ use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::request::{Answer, Directive, Request, SinglePermissible, SoftNorms, Strategy};
 use super::resolve::Reference;
-use super::resolve::{Narrowed, combinations, slots};
+use super::resolve::{Narrowed, Template, combinations, slots};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, did, simulate};
 use super::speech;
@@ -35,6 +35,12 @@ pub const FEW: usize = 3;
 pub const PARALLEL_FROM: usize = 64;
 /// Readings simulated between two looks at the deadline when running in parallel.
 const PARALLEL_BATCH: usize = 512;
+/// From this many readings on, they are described on rayon's pool, a batch per task: a reading
+/// is described in about a microsecond once its objects are, so fewer are not worth a task and
+/// a describer (whose descriptions are then made again) each.
+const DESCRIBE_APART_FROM: usize = 2048;
+/// Facts from which a decision's fact base is freed on rayon's pool rather than by the caller.
+const LARGE_BASE: usize = 4096;
 /// Readings described between two looks at the deadline.
 const PREPARE_BATCH: usize = 1024;
 
@@ -244,30 +250,16 @@ fn decide_directive(
     };
     // Describing every reading is work too (a tenth of a second for 100,000): the deadline is
     // asked here as well, and past it nothing is simulated and the ambiguous words are named.
-    let mut readings: Vec<Interpretation> = Vec::with_capacity(chosen.len());
     let prepared = chosen.len() as u128;
-    for (n, (values, score)) in chosen.into_iter().enumerate() {
-        if n % PREPARE_BATCH == PREPARE_BATCH - 1 && expired() {
-            let limits = Limits {
-                kind: LimitKind::Deadline,
-                readings: prepared,
-                simulated: 0,
-            };
-            let plan = decide(options, &[], &slots, true);
-            return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
-        }
-        let action = template.action(&values);
-        let (description, reading) = describer.described(&action);
-        readings.push(Interpretation {
-            description,
-            reading,
-            action,
-            score,
-            outcome: Outcome::default(),
-            reason_words: Vec::new(),
-            values,
-        });
-    }
+    let Some(readings) = prepare(chosen, &template, &mut describer, expired) else {
+        let limits = Limits {
+            kind: LimitKind::Deadline,
+            readings: prepared,
+            simulated: 0,
+        };
+        let plan = decide(options, &[], &slots, true);
+        return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
+    };
     if readings.is_empty() {
         // The answer matches none of the readings.
         let words = match &request.answer {
@@ -293,10 +285,11 @@ fn decide_directive(
     } else {
         order.sort_by(contract);
     }
-    let mut unsorted: Vec<Option<Interpretation>> = readings.into_iter().map(Some).collect();
-    let mut readings: Vec<Interpretation> = (order.iter()).filter_map(|&i| unsorted[i].take()).collect();
+    let mut readings = readings;
+    permute(&mut readings, order);
 
     let base = Arc::new(Base::new(scene.all_facts()));
+    let facts = base.len();
     let world = World::new(base);
     let env = Env {
         scene,
@@ -331,6 +324,11 @@ fn decide_directive(
             readings[simulated..end].iter_mut().for_each(simulate_one);
         }
         simulated = end;
+    }
+    if facts >= LARGE_BASE {
+        // Freeing a large fact base takes milliseconds: done on the pool while the answer is
+        // worded, not before it.
+        rayon::spawn(move || drop(world));
     }
     // Readings the deadline cut short mid-plan are not simulated: only those finished before
     // the first such one are kept, in the contract's order. A lone reading cut short is kept,
@@ -407,6 +405,75 @@ fn decide_directive(
     Ok(finish(plan, readings, limits, &mut describer))
 }
 
+/// How many of `n` readings one thread describes at a time: a few batches per thread, so that
+/// the threads share the work evenly, and at most [`PREPARE_BATCH`] between two looks at the
+/// deadline.
+fn parallel_batch(n: usize) -> usize {
+    n.div_ceil(4 * rayon::current_num_threads()).clamp(DESCRIBE_APART_FROM / 8, PREPARE_BATCH)
+}
+
+/// Rearranges `items` in place so that position `k` holds what was at `order[k]` (`order` is a
+/// permutation of the positions): each cycle of the permutation is followed once, so every item
+/// moves without a second vector of them being made.
+fn permute<T>(items: &mut [T], mut order: Vec<usize>) {
+    const DONE: usize = usize::MAX;
+    for start in 0..items.len() {
+        let mut k = start;
+        while order[k] != DONE {
+            let from = std::mem::replace(&mut order[k], DONE);
+            if from == start {
+                break;
+            }
+            items.swap(k, from);
+            k = from;
+        }
+    }
+}
+
+/// Each reading's action and words, in the order chosen; `None` when the deadline passed first
+/// (asked between batches, never before the first). Many readings are described batch by batch
+/// on rayon's pool, each batch with its own describer: a description depends only on the scene,
+/// so the words are the same whichever thread wrote them.
+fn prepare(
+    chosen: Vec<(Vec<Term>, f64)>,
+    template: &Template<'_>,
+    describer: &mut Describer<'_>,
+    expired: &(dyn Fn() -> bool + Sync),
+) -> Option<Vec<Interpretation>> {
+    let describe = |describer: &mut Describer<'_>, (values, score): (Vec<Term>, f64)| {
+        let action = template.action(&values);
+        let (description, reading) = describer.described(&action);
+        Interpretation {
+            description,
+            reading,
+            action,
+            score,
+            outcome: Outcome::default(),
+            reason_words: Vec::new(),
+            values,
+        }
+    };
+    if chosen.len() < DESCRIBE_APART_FROM {
+        return Some(chosen.into_iter().map(|c| describe(describer, c)).collect());
+    }
+    let describer = &*describer;
+    let batch = parallel_batch(chosen.len());
+    let batches: Vec<Option<Vec<Interpretation>>> = (chosen.into_par_iter().chunks(batch).enumerate())
+        .map(|(n, batch)| {
+            if n > 0 && expired() {
+                return None;
+            }
+            let mut describer = describer.fresh();
+            Some(batch.into_iter().map(|c| describe(&mut describer, c)).collect())
+        })
+        .collect();
+    let mut readings = Vec::with_capacity(batches.iter().flatten().map(Vec::len).sum());
+    for batch in batches {
+        readings.extend(batch?);
+    }
+    Some(readings)
+}
+
 fn render(
     speaker: &Term,
     style: Style,
@@ -428,13 +495,21 @@ fn render(
         ),
         _ => (None, Vec::new()),
     };
-    for i in &mut interpretations {
-        i.reason_words = i
-            .outcome
-            .reasons
-            .iter()
+    let word = |describer: &mut Describer<'_>, i: &mut Interpretation| {
+        i.reason_words = (i.outcome.reasons.iter())
             .map(|r| speech::reason_words(r, style, describer))
             .collect();
+    };
+    if interpretations.len() >= DESCRIBE_APART_FROM {
+        // As in `prepare`: batch by batch, each with its own describer, the same words.
+        let fresh = describer.fresh();
+        let batch = parallel_batch(interpretations.len());
+        interpretations.par_chunks_mut(batch).for_each(|batch| {
+            let mut describer = fresh.fresh();
+            batch.iter_mut().for_each(|i| word(&mut describer, i));
+        });
+    } else {
+        interpretations.iter_mut().for_each(|i| word(describer, i));
     }
     Decision {
         kind: plan_kind(&plan),
@@ -447,5 +522,22 @@ fn render(
         norm_version,
         library_version: 0,
         parse: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Whatever the permutation, position `k` ends holding what was at `order[k]`.
+        #[test]
+        fn permute_puts_each_item_where_the_order_says(order in Just((0..300usize).collect::<Vec<_>>()).prop_shuffle(), len in 0..300usize) {
+            let order: Vec<usize> = order.into_iter().filter(|&i| i < len).collect();
+            let mut items: Vec<String> = (0..len).map(|i| format!("item{i}")).collect();
+            super::permute(&mut items, order.clone());
+            let expected: Vec<String> = order.iter().map(|i| format!("item{i}")).collect();
+            prop_assert_eq!(items, expected);
+        }
     }
 }

@@ -4,6 +4,8 @@
 //! Owns: which features describe an object, their order, and how actions are spoken.
 //! Must not: depend on hash order; the same scene always yields the same words.
 
+use std::sync::{Arc, OnceLock};
+
 use rustc_hash::FxHashMap;
 
 use super::action::Library;
@@ -76,14 +78,18 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s
 /// them by type costs more than the scans a small scene's descriptions make.
 const SCAN_KINDS: usize = 64;
 
-/// Describes objects, each at most once per request.
+type Kinds<'a> = FxHashMap<&'a str, Vec<&'a Object>>;
+
+/// Describes objects, each at most once per request (per thread, when many readings are
+/// described at once).
 pub struct Describer<'a> {
     scene: &'a Scene,
     library: &'a Library,
     /// By the object's id, as a symbol: looking one up hashes a precomputed word.
     cache: FxHashMap<Sym, String>,
-    /// In a large scene, the objects of each type, in scene order, listed at the first description.
-    kinds: Option<FxHashMap<&'a str, Vec<&'a Object>>>,
+    /// In a large scene, the objects of each type, in scene order, listed at the first
+    /// description, and shared with the describers made from this one ([`Describer::fresh`]).
+    kinds: Arc<OnceLock<Kinds<'a>>>,
 }
 
 impl<'a> Describer<'a> {
@@ -92,7 +98,18 @@ impl<'a> Describer<'a> {
             scene,
             library,
             cache: FxHashMap::default(),
-            kinds: None,
+            kinds: Arc::default(),
+        }
+    }
+
+    /// Another describer of the same scene, for another thread: its own cache of descriptions,
+    /// the objects by type shared.
+    pub fn fresh(&self) -> Describer<'a> {
+        Describer {
+            scene: self.scene,
+            library: self.library,
+            cache: FxHashMap::default(),
+            kinds: self.kinds.clone(),
         }
     }
 
@@ -122,7 +139,7 @@ impl<'a> Describer<'a> {
             describe_object(self.scene, object)
         } else {
             let scene = self.scene;
-            let kinds = self.kinds.get_or_insert_with(|| {
+            let kinds = self.kinds.get_or_init(|| {
                 let mut kinds: FxHashMap<&str, Vec<&Object>> = FxHashMap::default();
                 for o in &scene.objects {
                     kinds.entry(o.kind.as_str()).or_default().push(o);

@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use rustc_hash::FxHashMap;
-use std::sync::{Arc, OnceLock};
+use std::sync::OnceLock;
 
 use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
@@ -17,7 +17,9 @@ use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, SharedShape};
 
 use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
-use super::term::{Sym, Term};
+use super::term::Term;
+
+mod facts;
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -309,28 +311,6 @@ impl Scene {
 
     pub fn index_of(&self, id: &str) -> Option<usize> {
         self.by_id.get(id).copied()
-    }
-
-    /// Every fact the scene states: for each object its type, properties and attributes, then
-    /// `facts` as given.
-    pub fn all_facts(&self) -> Vec<Term> {
-        let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
-        // Types, properties and attributes recur across objects: each is interned once here.
-        let mut names: FxHashMap<&str, Sym> = FxHashMap::default();
-        let mut name = |text| names.entry(text).or_insert_with(|| Sym::new(text)).clone();
-        for object in &self.objects {
-            let id = Term::Const(Sym::new(&object.id));
-            out.push(Term::Compound(name(&object.kind), Arc::from([id.clone()])));
-            for property in &object.properties {
-                out.push(Term::Compound(name(property), Arc::from([id.clone()])));
-            }
-            for (key, value) in &object.attributes {
-                let value = Term::Const(name(value));
-                out.push(Term::Compound(name(key), Arc::from([id.clone(), value])));
-            }
-        }
-        out.extend(self.facts.iter().cloned());
-        out
     }
 
     /// Whether the agent can touch the object: the distance from the agent's position to the

@@ -260,3 +260,31 @@ fn assume_names_the_chosen_reading_first_then_the_others_by_score() {
     let scores: Vec<f64> = d.interpretations.iter().map(|i| i.score).collect();
     assert_eq!(scores, vec![0.9, 0.5, 0.1]);
 }
+
+/// Readings enough to be described batch by batch on rayon's pool (2,048 or more, in several
+/// batches): each keeps the words of its own action, and they stand in the contract's order.
+#[test]
+fn many_readings_keep_their_own_words_in_the_contracts_order() {
+    let mut objects = Vec::new();
+    for i in 0..46 {
+        let color = ["red", "green", "blue"][i % 3];
+        objects.push(obj(&format!("cup{i}"), "cup", &[], &[("color", color)], [0.5, 0.01 * i as f64, 0.8], None));
+        objects.push(obj(&format!("plate{i}"), "plate", &[], &[], [0.5, -0.01 * i as f64, 0.76], None));
+    }
+    let scene = scene(objects, &[]);
+    let library = Library::default_library();
+    let request = act("put", vec![ty("cup"), ty("plate")]);
+    let decision = clarify(&request, &scene, &norms(&[]), &library, &|| false).unwrap();
+    assert_eq!(decision.interpretations.len(), 46 * 46);
+    let mut describer = super::super::describe::Describer::new(&scene, &library);
+    for i in &decision.interpretations {
+        let action = &i.action.args()[1];
+        assert_eq!(i.description, describer.arguments(action), "{}", i.action);
+        assert_eq!(i.reading, describer.reading(action), "{}", i.action);
+    }
+    let key = |i: &Interpretation| (i.description.clone(), i.action.to_string());
+    assert!(
+        decision.interpretations.windows(2).all(|w| key(&w[0]) <= key(&w[1])),
+        "not in the contract's order"
+    );
+}
