@@ -59,3 +59,22 @@ impl Arrival {
 
 /// Answers with more readings than this are converted and written on the blocking pool.
 pub const LARGE_ANSWER: usize = 512;
+
+/// A large decision's answer, made on the blocking pool (tens of megabytes of words take a
+/// runtime thread for tens of milliseconds, and health checks and small decisions must not wait
+/// behind it). The decision is freed there too, after the answer is handed back: freeing
+/// 100,000 readings is milliseconds the client need not wait for.
+pub async fn large_answer<T: Send + 'static>(
+    decision: crate::engine::Decision,
+    write: impl FnOnce(&crate::engine::Decision) -> T + Send + 'static,
+) -> Result<T, crate::error::Error> {
+    let (answer, answered) = tokio::sync::oneshot::channel();
+    tokio::task::spawn_blocking(move || {
+        // A receiver gone means the client went away: the answer is dropped with the rest.
+        let _ = answer.send(write(&decision));
+        drop(decision);
+    });
+    answered
+        .await
+        .map_err(|_| crate::error::Error::Internal("writing the answer failed".to_owned()))
+}

@@ -87,9 +87,10 @@ impl Clarifier for ClarifierService {
             return Ok(Response::new(DecisionDto::new(&decision, text).into()));
         }
         // As over REST: a large answer is converted on the blocking pool.
-        let answer = tokio::task::spawn_blocking(move || pb::ClarifyResponse::from(DecisionDto::new(&decision, text)))
-            .await
-            .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
+        let answer = crate::transport::large_answer(decision, move |decision| {
+            pb::ClarifyResponse::from(DecisionDto::new(decision, text))
+        })
+        .await?;
         Ok(Response::new(answer))
     }
 

@@ -506,12 +506,11 @@ async fn clarify(
     if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
         return Ok(Json(DecisionDto::new(&decision, text)).into_response());
     }
-    // Tens of megabytes of JSON take a runtime thread for tens of milliseconds: written on the
-    // blocking pool, so that health checks and small decisions are not held behind it.
-    let body = tokio::task::spawn_blocking(move || serde_json::to_vec(&DecisionDto::new(&decision, text)))
-        .await
-        .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?
-        .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
+    let body = crate::transport::large_answer(decision, move |decision| {
+        serde_json::to_vec(&DecisionDto::new(decision, text))
+    })
+    .await?
+    .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
     Ok((
         [(header::CONTENT_TYPE, HeaderValue::from_static("application/json"))],
         body,
