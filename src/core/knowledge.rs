@@ -53,6 +53,9 @@ pub(super) enum Source {
 /// How far past a request's deadline it may wait for the norms and verbs before it is overload.
 const KNOWLEDGE_GRACE: Duration = Duration::from_millis(100);
 
+/// The share of the lease after which the versions are read again ahead of its end.
+const AHEAD: f64 = 0.75;
+
 /// How long the last read of the knowledge may stand for readiness; past it, readiness says the
 /// store has stopped answering (a probe refreshes it every second when no request does).
 const READINESS_STALE: Duration = Duration::from_secs(10);
@@ -148,7 +151,7 @@ impl Core {
         // Under a lease nothing is awaited, so nothing can be late: no timer is set. The file
         // was checked here once; the read below does not check it again before it waits.
         let outcome = match self.leased(Some(&self.metrics)) {
-            Ok(Some(knowledge)) => return Ok(knowledge),
+            Ok(Some(knowledge)) => return Ok(self.ahead(knowledge, deadline).await),
             // A little past the deadline, so that a request whose deadline is (nearly) spent
             // still gets its answer with `limits` when the store is quick, as it is unless
             // overloaded.
@@ -162,6 +165,27 @@ impl Core {
         };
         self.note_readiness(&outcome);
         outcome
+    }
+
+    /// Refresh ahead: once three quarters of the lease have run, the first request to see it
+    /// reads the versions again (if no read is under way) while the others keep the lease, which
+    /// still holds; so no request waits for the read when the lease runs out, unless the store
+    /// is slower than a quarter of the lease. What this request answers with is the fresh read,
+    /// or, if the read fails or is late, the lease it already had (it held when the request began).
+    async fn ahead(&self, leased: Knowledge, deadline: Instant) -> Knowledge {
+        let ahead = self.settings.lease.mul_f64(AHEAD);
+        let old = (self.lease.read().ok())
+            .and_then(|lease| lease.as_ref().map(|l| l.from.elapsed() >= ahead))
+            .unwrap_or(false);
+        let Some(_only_reader) = old.then(|| self.refreshing.try_lock().ok()).flatten() else {
+            return leased;
+        };
+        let read = self.read_locked(Some(&self.metrics), Read::Always);
+        let outcome = tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), read)
+            .await
+            .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }));
+        self.note_readiness(&outcome);
+        outcome.unwrap_or(leased)
     }
 
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
@@ -202,6 +226,19 @@ impl Core {
     }
 
     async fn read_knowledge(&self, metrics: Option<&Metrics>, read: Read) -> Result<Knowledge, Error> {
+        if let Source::Fixed(knowledge) = &self.source {
+            return Ok(knowledge.clone());
+        }
+        // Without a lease every request reads for itself, as many at once as the pool allows.
+        let _only_reader = match self.settings.lease.is_zero() {
+            true => None,
+            false => Some(self.refreshing.lock().await),
+        };
+        self.read_locked(metrics, read).await
+    }
+
+    /// [`Core::read_knowledge`] with the right to read taken (or not needed: no lease).
+    async fn read_locked(&self, metrics: Option<&Metrics>, read: Read) -> Result<Knowledge, Error> {
         let count = |cache, outcome| {
             if let Some(m) = metrics {
                 m.cache(cache, outcome);
@@ -210,11 +247,6 @@ impl Core {
         let store = match &self.source {
             Source::Fixed(knowledge) => return Ok(knowledge.clone()),
             Source::Store(store) => store,
-        };
-        // Without a lease every request reads for itself, as many at once as the pool allows.
-        let _only_reader = match self.settings.lease.is_zero() {
-            true => None,
-            false => Some(self.refreshing.lock().await),
         };
         if read == Read::UnlessLeased
             && let Some(knowledge) = self.lease_hit(metrics)?

@@ -162,3 +162,30 @@ async fn when_conditions_are_checked_against_the_scene() {
         "holding(self,object3)"
     );
 }
+
+/// Refresh ahead: once three quarters of the lease have run, the next request reads the stored
+/// versions again, so a change made behind the service's back (not acknowledged by it, so only
+/// promised within the lease) shows before the lease runs out, and no request waits for the
+/// read at its end. The request at 80% of the lease answers from the store, not the lease.
+/// (The lease is shorter than the readiness probe's second, so only the request can have read.)
+#[tokio::test]
+async fn the_versions_are_read_again_before_the_lease_runs_out() {
+    let lease = std::time::Duration::from_millis(400);
+    let app = crate::helpers::spawn_tweaked(move |config| config.lease = lease).await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let leased = std::time::Instant::now();
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    crate::helpers::raw_sql_on(&app.db_path, "DELETE FROM norms; UPDATE norm_set SET version = version + 1")
+        .await
+        .unwrap();
+    let stale = app.clarify(&get_vase()).await;
+    if leased.elapsed() < lease / 2 {
+        // Under the lease, the change made behind the service's back is not seen yet.
+        assert_eq!(stale["decision"], "assume");
+    }
+    tokio::time::sleep((lease.mul_f64(0.8)).saturating_sub(leased.elapsed())).await;
+    let fresh = app.clarify(&get_vase()).await;
+    assert_eq!(fresh["decision"], "ask", "{fresh}");
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "ask");
+}
