@@ -10,7 +10,6 @@ use std::time::Duration;
 
 use tokio::net::TcpListener;
 
-
 use crate::core::Core;
 use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
 use crate::error::Error;

@@ -409,7 +409,8 @@ fn decide_directive(
 /// the threads share the work evenly, and at most [`PREPARE_BATCH`] between two looks at the
 /// deadline.
 fn parallel_batch(n: usize) -> usize {
-    n.div_ceil(4 * rayon::current_num_threads()).clamp(DESCRIBE_APART_FROM / 8, PREPARE_BATCH)
+    n.div_ceil(4 * rayon::current_num_threads())
+        .clamp(DESCRIBE_APART_FROM / 8, PREPARE_BATCH)
 }
 
 /// Rearranges `items` in place so that position `k` holds what was at `order[k]` (`order` is a

@@ -184,7 +184,12 @@ where
         if queued >= admission.config.max_queued {
             return Ok(refuse(&admission, &request));
         }
-        match tokio::time::timeout(admission.config.queue_timeout, admission.permits.clone().acquire_owned()).await {
+        match tokio::time::timeout(
+            admission.config.queue_timeout,
+            admission.permits.clone().acquire_owned(),
+        )
+        .await
+        {
             Ok(Ok(turn)) => turn,
             // Timed out, or the semaphore closed (never: it is not closed while serving).
             Ok(Err(_)) | Err(_) => return Ok(refuse(&admission, &request)),

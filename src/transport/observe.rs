@@ -11,8 +11,8 @@ use std::convert::Infallible;
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::RwLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::task::{Context, Poll};
 use std::time::Instant;
 
@@ -200,7 +200,10 @@ where
         let route = if grpc {
             observer.grpc_methods.get(request.uri().path()).cloned()
         } else {
-            request.extensions().get::<MatchedPath>().map(|m| observer.template(m.as_str()))
+            request
+                .extensions()
+                .get::<MatchedPath>()
+                .map(|m| observer.template(m.as_str()))
         };
         let span = span(&request, &id);
         let asked = Asked {

@@ -176,9 +176,12 @@ async fn the_versions_are_read_again_before_the_lease_runs_out() {
         .await;
     let leased = std::time::Instant::now();
     assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
-    crate::helpers::raw_sql_on(&app.db_path, "DELETE FROM norms; UPDATE norm_set SET version = version + 1")
-        .await
-        .unwrap();
+    crate::helpers::raw_sql_on(
+        &app.db_path,
+        "DELETE FROM norms; UPDATE norm_set SET version = version + 1",
+    )
+    .await
+    .unwrap();
     let stale = app.clarify(&get_vase()).await;
     if leased.elapsed() < lease / 2 {
         // Under the lease, the change made behind the service's back is not seen yet.

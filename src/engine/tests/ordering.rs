@@ -268,8 +268,22 @@ fn many_readings_keep_their_own_words_in_the_contracts_order() {
     let mut objects = Vec::new();
     for i in 0..46 {
         let color = ["red", "green", "blue"][i % 3];
-        objects.push(obj(&format!("cup{i}"), "cup", &[], &[("color", color)], [0.5, 0.01 * i as f64, 0.8], None));
-        objects.push(obj(&format!("plate{i}"), "plate", &[], &[], [0.5, -0.01 * i as f64, 0.76], None));
+        objects.push(obj(
+            &format!("cup{i}"),
+            "cup",
+            &[],
+            &[("color", color)],
+            [0.5, 0.01 * i as f64, 0.8],
+            None,
+        ));
+        objects.push(obj(
+            &format!("plate{i}"),
+            "plate",
+            &[],
+            &[],
+            [0.5, -0.01 * i as f64, 0.76],
+            None,
+        ));
     }
     let scene = scene(objects, &[]);
     let library = Library::default_library();
