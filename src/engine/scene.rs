@@ -130,8 +130,14 @@ impl Shape {
         match &self {
             Shape::Ball { radius } => positive("/ball/radius", *radius)?,
             Shape::Cuboid { half_extents } => {
-                for (k, h) in half_extents.iter().enumerate() {
-                    positive(&format!("/cuboid/half_extents/{k}"), *h)?;
+                // Pointers written out: no text is made for a size that is fine.
+                let fields = [
+                    "/cuboid/half_extents/0",
+                    "/cuboid/half_extents/1",
+                    "/cuboid/half_extents/2",
+                ];
+                for (field, h) in fields.into_iter().zip(half_extents) {
+                    positive(field, *h)?;
                 }
             }
             Shape::Cylinder { radius, half_height } => {

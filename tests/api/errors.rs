@@ -57,6 +57,11 @@ async fn bad_clarify_requests_name_the_field_at_fault() {
             "/scene/objects/2/shape/cylinder/radius",
         ),
         (
+            "a cuboid of no depth",
+            vase_with(|r| r["scene"]["objects"][0]["shape"]["cuboid"]["half_extents"][2] = json!(0)),
+            "/scene/objects/0/shape/cuboid/half_extents/2",
+        ),
+        (
             "an unknown shape",
             vase_with(|r| r["scene"]["objects"][0]["shape"] = json!({"cone": {"radius": 1}})),
             "/scene/objects/0/shape",
