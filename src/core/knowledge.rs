@@ -56,6 +56,13 @@ const KNOWLEDGE_GRACE: Duration = Duration::from_millis(100);
 /// The share of the lease after which the versions are read again ahead of its end.
 const AHEAD: f64 = 0.75;
 
+/// The knowledge under a lease that holds now, and whether the lease is past [`AHEAD`] of its
+/// time, so due to be read again ahead of its end.
+struct Hit {
+    knowledge: Knowledge,
+    due: bool,
+}
+
 /// How long the last read of the knowledge may stand for readiness; past it, readiness says the
 /// store has stopped answering (a probe refreshes it every second when no request does).
 const READINESS_STALE: Duration = Duration::from_secs(10);
@@ -151,7 +158,7 @@ impl Core {
         // Under a lease nothing is awaited, so nothing can be late: no timer is set. The file
         // was checked here once; the read below does not check it again before it waits.
         let outcome = match self.leased(Some(&self.metrics)) {
-            Ok(Some(knowledge)) => return Ok(self.ahead(knowledge, deadline).await),
+            Ok(Some(hit)) => return Ok(self.ahead(hit, deadline).await),
             // A little past the deadline, so that a request whose deadline is (nearly) spent
             // still gets its answer with `limits` when the store is quick, as it is unless
             // overloaded.
@@ -172,27 +179,23 @@ impl Core {
     /// still holds; so no request waits for the read when the lease runs out, unless the store
     /// is slower than a quarter of the lease. What this request answers with is the fresh read,
     /// or, if the read fails or is late, the lease it already had (it held when the request began).
-    async fn ahead(&self, leased: Knowledge, deadline: Instant) -> Knowledge {
-        let ahead = self.settings.lease.mul_f64(AHEAD);
-        let old = (self.lease.read().ok())
-            .and_then(|lease| lease.as_ref().map(|l| l.from.elapsed() >= ahead))
-            .unwrap_or(false);
-        let Some(_only_reader) = old.then(|| self.refreshing.try_lock().ok()).flatten() else {
-            return leased;
+    async fn ahead(&self, hit: Hit, deadline: Instant) -> Knowledge {
+        let Some(_only_reader) = hit.due.then(|| self.refreshing.try_lock().ok()).flatten() else {
+            return hit.knowledge;
         };
         let read = self.read_locked(Some(&self.metrics), Read::Always);
         let outcome = tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), read)
             .await
             .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }));
         self.note_readiness(&outcome);
-        outcome.unwrap_or(leased)
+        outcome.unwrap_or(hit.knowledge)
     }
 
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
     /// Readiness is noted when the store is read or found wanting, not on every lease hit.
     async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
         let outcome = match self.leased(metrics) {
-            Ok(Some(knowledge)) => return Ok(knowledge),
+            Ok(Some(hit)) => return Ok(hit.knowledge),
             Ok(None) => self.read_knowledge(metrics, Read::UnlessLeased).await,
             Err(e) => Err(e),
         };
@@ -203,9 +206,14 @@ impl Core {
     /// The knowledge without a read, when it may be had so: fixed, or under a lease that holds
     /// now. The database file is checked on every call (one `stat`), so that a file deleted or
     /// replaced fails closed on the very next request, lease or not.
-    fn leased(&self, metrics: Option<&Metrics>) -> Result<Option<Knowledge>, Error> {
+    fn leased(&self, metrics: Option<&Metrics>) -> Result<Option<Hit>, Error> {
         let store = match &self.source {
-            Source::Fixed(knowledge) => return Ok(Some(knowledge.clone())),
+            Source::Fixed(knowledge) => {
+                return Ok(Some(Hit {
+                    knowledge: knowledge.clone(),
+                    due: false,
+                }));
+            }
             Source::Store(store) => store,
         };
         store.still_there().map_err(|e| e.answer(Error::NormsUnavailable))?;
@@ -213,16 +221,21 @@ impl Core {
     }
 
     /// The knowledge of the lease, if it holds now; the file is not looked at.
-    fn lease_hit(&self, metrics: Option<&Metrics>) -> Result<Option<Knowledge>, Error> {
+    fn lease_hit(&self, metrics: Option<&Metrics>) -> Result<Option<Hit>, Error> {
         let lease = self.lease.read().map_err(|_| poisoned())?;
-        let Some(leased) = lease.as_ref().filter(|l| l.from.elapsed() < self.settings.lease) else {
+        let Some((leased, age)) =
+            (lease.as_ref().map(|l| (l, l.from.elapsed()))).filter(|(_, age)| *age < self.settings.lease)
+        else {
             return Ok(None);
         };
         if let Some(m) = metrics {
             m.cache(Cache::Norms, Outcome::Hit);
             m.cache(Cache::Library, Outcome::Hit);
         }
-        Ok(Some(leased.knowledge.clone()))
+        Ok(Some(Hit {
+            knowledge: leased.knowledge.clone(),
+            due: age >= self.settings.lease.mul_f64(AHEAD),
+        }))
     }
 
     async fn read_knowledge(&self, metrics: Option<&Metrics>, read: Read) -> Result<Knowledge, Error> {
@@ -249,7 +262,7 @@ impl Core {
             Source::Store(store) => store,
         };
         if read == Read::UnlessLeased
-            && let Some(knowledge) = self.lease_hit(metrics)?
+            && let Some(Hit { knowledge, .. }) = self.lease_hit(metrics)?
         {
             // Read by the request this one waited for, after this one began (and looked at the
             // file: it has not been looked at since only by the time spent waiting here).
