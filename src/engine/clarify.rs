@@ -251,7 +251,7 @@ fn decide_directive(
     // Describing every reading is work too (a tenth of a second for 100,000): the deadline is
     // asked here as well, and past it nothing is simulated and the ambiguous words are named.
     let prepared = chosen.len() as u128;
-    let Some(readings) = prepare(chosen, &template, &mut describer, expired) else {
+    let Some(mut readings) = prepare(chosen, &template, &mut describer, expired) else {
         let limits = Limits {
             kind: LimitKind::Deadline,
             readings: prepared,
@@ -285,7 +285,6 @@ fn decide_directive(
     } else {
         order.sort_by(contract);
     }
-    let mut readings = readings;
     permute(&mut readings, order);
 
     let base = Arc::new(Base::new(scene.all_facts()));
@@ -503,10 +502,10 @@ fn render(
     };
     if interpretations.len() >= DESCRIBE_APART_FROM {
         // As in `prepare`: batch by batch, each with its own describer, the same words.
-        let fresh = describer.fresh();
+        let describer = &*describer;
         let batch = parallel_batch(interpretations.len());
         interpretations.par_chunks_mut(batch).for_each(|batch| {
-            let mut describer = fresh.fresh();
+            let mut describer = describer.fresh();
             batch.iter_mut().for_each(|i| word(&mut describer, i));
         });
     } else {
