@@ -36,6 +36,22 @@ pub(super) fn obj(
     }
 }
 
+/// `n` cups and `n` plates, `cup{i}` then `plate{i}` for each `i`: the cups as `cup` makes them,
+/// the plates in a row on the table, within reach. Every cup on every plate is `n × n` readings.
+pub(super) fn cups_and_plates(n: usize, cup: impl Fn(usize) -> Object) -> Vec<Object> {
+    let plate = |i: usize| {
+        obj(
+            &format!("plate{i}"),
+            "plate",
+            &[],
+            &[],
+            [0.5, -0.01 * i as f64, 0.76],
+            None,
+        )
+    };
+    (0..n).flat_map(|i| [cup(i), plate(i)]).collect()
+}
+
 pub(super) fn notebook_shape() -> Option<Shape> {
     Some(Shape::Cuboid {
         half_extents: [0.105, 0.148, 0.01],

@@ -265,26 +265,17 @@ fn assume_names_the_chosen_reading_first_then_the_others_by_score() {
 /// batches): each keeps the words of its own action, and they stand in the contract's order.
 #[test]
 fn many_readings_keep_their_own_words_in_the_contracts_order() {
-    let mut objects = Vec::new();
-    for i in 0..46 {
+    let objects = cups_and_plates(46, |i| {
         let color = ["red", "green", "blue"][i % 3];
-        objects.push(obj(
+        obj(
             &format!("cup{i}"),
             "cup",
             &[],
             &[("color", color)],
             [0.5, 0.01 * i as f64, 0.8],
             None,
-        ));
-        objects.push(obj(
-            &format!("plate{i}"),
-            "plate",
-            &[],
-            &[],
-            [0.5, -0.01 * i as f64, 0.76],
-            None,
-        ));
-    }
+        )
+    });
     let scene = scene(objects, &[]);
     let library = Library::default_library();
     let request = act("put", vec![ty("cup"), ty("plate")]);

@@ -557,26 +557,10 @@ fn random_cases_reach_every_decision_and_reason_kind() {
 /// Enough readings to run on rayon's pool: one thread or four, the same decision, byte for byte.
 #[test]
 fn the_decision_is_the_same_whatever_the_thread_count() {
-    let mut objects = Vec::new();
-    for i in 0..40 {
+    let objects = cups_and_plates(40, |i| {
         let far = if i % 7 == 0 { 3.0 } else { 0.5 };
-        objects.push(obj(
-            &format!("cup{i}"),
-            "cup",
-            &[],
-            &[],
-            [far, 0.01 * i as f64, 0.8],
-            None,
-        ));
-        objects.push(obj(
-            &format!("plate{i}"),
-            "plate",
-            &[],
-            &[],
-            [0.5, -0.01 * i as f64, 0.76],
-            None,
-        ));
-    }
+        obj(&format!("cup{i}"), "cup", &[], &[], [far, 0.01 * i as f64, 0.8], None)
+    });
     let scene = scene(objects, &["fragile(cup3)", "fragile(cup5)"]);
     let norms = norms(&[when(fa("put(X,Y)"), &["fragile(X)"]), fs("on(cup8,plate9)")]);
     let request = act("put", vec![ty("cup"), ty("plate")]);
