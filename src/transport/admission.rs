@@ -72,14 +72,6 @@ fn is_probe(path: &str) -> bool {
     path == "/healthz" || path == "/metrics" || path.starts_with("/grpc.health.v1.Health/")
 }
 
-fn is_grpc(request: &Request) -> bool {
-    request
-        .headers()
-        .get(axum::http::header::CONTENT_TYPE)
-        .and_then(|v| v.to_str().ok())
-        .is_some_and(|t| t.starts_with("application/grpc"))
-}
-
 /// Decrements the waiting count however the wait ends (a turn, a timeout, a dropped request).
 struct Waiting<'a>(&'a AtomicUsize);
 
@@ -205,7 +197,7 @@ fn refuse(admission: &Admission, request: &Request) -> Response {
     let error = Error::Overloaded {
         retry_after_s: RETRY_AFTER_S,
     };
-    if is_grpc(request) {
+    if super::is_grpc(request) {
         tonic::Status::from(error).into_http::<axum::body::Body>()
     } else {
         error.into_response()

@@ -57,6 +57,16 @@ impl Arrival {
     }
 }
 
+/// Whether a request is a gRPC call (its content type is `application/grpc`, `+proto` or not):
+/// how it must be answered, and how it is labelled.
+pub fn is_grpc(request: &axum::extract::Request) -> bool {
+    request
+        .headers()
+        .get(axum::http::header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|t| t.starts_with("application/grpc"))
+}
+
 /// Answers with more readings than this are converted and written on the blocking pool.
 pub const LARGE_ANSWER: usize = 512;
 

@@ -192,11 +192,7 @@ where
         };
         request.extensions_mut().insert(crate::transport::Arrival(started));
         let observer = &self.layer.observer;
-        let grpc = request
-            .headers()
-            .get(axum::http::header::CONTENT_TYPE)
-            .and_then(|v| v.to_str().ok())
-            .is_some_and(|t| t.starts_with("application/grpc"));
+        let grpc = crate::transport::is_grpc(&request);
         let route = if grpc {
             observer.grpc_methods.get(request.uri().path()).cloned()
         } else {
