@@ -180,6 +180,7 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
             tonic_reflection::pb::v1::FILE_DESCRIPTOR_SET,
             tonic_reflection::pb::v1alpha::FILE_DESCRIPTOR_SET,
         ],
+        rest::openapi().paths.paths.into_keys(),
     );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
     Ok(rest::router(state)

@@ -11,7 +11,6 @@ use std::convert::Infallible;
 use std::future::Future;
 use std::pin::Pin;
 use std::sync::Arc;
-use std::sync::RwLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::task::{Context, Poll};
 use std::time::Instant;
@@ -32,15 +31,19 @@ pub const REQUEST_ID: &str = "x-request-id";
 pub struct Observer {
     pub metrics: Arc<Metrics>,
     grpc_methods: HashSet<Arc<str>>,
-    /// The route templates met so far, each text kept once: a template is one of the router's
-    /// few, so this stays as small as the router.
-    routes: RwLock<HashSet<Arc<str>>>,
+    /// The REST route templates, each text kept once, so that labelling a request copies none.
+    routes: HashSet<Arc<str>>,
     unmatched: Arc<str>,
 }
 
 impl Observer {
-    /// `descriptor_sets`: the encoded `FileDescriptorSet` of every gRPC service served.
-    pub fn new(metrics: Arc<Metrics>, descriptor_sets: &[&[u8]]) -> Arc<Observer> {
+    /// `descriptor_sets`: the encoded `FileDescriptorSet` of every gRPC service served; `routes`:
+    /// the REST route templates.
+    pub fn new(
+        metrics: Arc<Metrics>,
+        descriptor_sets: &[&[u8]],
+        routes: impl IntoIterator<Item = String>,
+    ) -> Arc<Observer> {
         let mut grpc_methods = HashSet::new();
         for encoded in descriptor_sets {
             // The sets are compiled into the binary; one that does not decode names no method.
@@ -63,24 +66,18 @@ impl Observer {
         Arc::new(Observer {
             metrics,
             grpc_methods,
-            routes: RwLock::default(),
+            routes: routes.into_iter().map(Arc::from).collect(),
             unmatched: Arc::from("unmatched"),
         })
     }
 
-    /// The shared text of a route template.
+    /// The shared text of a route template. Every REST template is known from the start;
+    /// another (the one of gRPC's routes, asked without gRPC's content type) is copied.
     fn template(&self, template: &str) -> Arc<str> {
-        // A poisoned set is still a set of templates: nothing that can panic runs under it.
-        if let Some(route) = self.routes.read().unwrap_or_else(|e| e.into_inner()).get(template) {
-            return route.clone();
-        }
-        let mut routes = self.routes.write().unwrap_or_else(|e| e.into_inner());
-        if let Some(route) = routes.get(template) {
-            return route.clone();
-        }
-        let route: Arc<str> = Arc::from(template);
-        routes.insert(route.clone());
-        route
+        self.routes
+            .get(template)
+            .cloned()
+            .unwrap_or_else(|| Arc::from(template))
     }
 }
 
