@@ -76,6 +76,23 @@ impl ActionDef {
         Some(subst)
     }
 
+    /// Makes every name the verb's plan uses last for the process: every reading of it copies
+    /// them (see [`Sym::make_lasting`]).
+    fn make_lasting(&self) {
+        self.name.make_lasting();
+        self.params.iter().for_each(Sym::make_lasting);
+        for method in &self.methods {
+            let terms = (method.preconditions.iter())
+                .chain(&method.adds)
+                .chain(&method.removes)
+                .chain(method.steps.iter().filter_map(|s| match s {
+                    Step::Do(t) => Some(t),
+                    Step::Itself => None,
+                }));
+            terms.for_each(Term::make_lasting);
+        }
+    }
+
     /// The verbs this one's steps call, by name and arity.
     fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
         self.methods.iter().flat_map(|m| {
@@ -425,6 +442,7 @@ impl Library {
     /// Adds or replaces a verb, refusing one whose steps would call it again through the
     /// library (a plan that never ends).
     pub fn insert(&mut self, def: ActionDef) -> Result<(), Invalid> {
+        def.make_lasting();
         let key = (def.name.clone(), def.params.len());
         self.costs = std::sync::OnceLock::new();
         self.phrases = std::sync::OnceLock::new();

@@ -429,6 +429,7 @@ impl CompiledNorms {
             let index = compiled.rules.len();
             let mut literals = vec![norm.spec.term.clone()];
             literals.extend(norm.spec.when.iter().cloned());
+            literals.iter().for_each(Term::make_lasting); // every reading's checks copy them
             if norm.spec.kind.on_action() {
                 if let Some(name) = norm.spec.term.name() {
                     compiled.actions_by_name.entry(name.clone()).or_default().push(index);

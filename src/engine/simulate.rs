@@ -294,8 +294,12 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
 /// `did(self,action)`: the paper's convention for "action is done".
 pub fn did(action: &Term) -> Term {
     // Built once per reading and step: the two names are looked up once per process.
-    static NAMES: std::sync::LazyLock<(Sym, Term)> =
-        std::sync::LazyLock::new(|| (Sym::new("did"), Term::constant("self")));
+    static NAMES: std::sync::LazyLock<(Sym, Term)> = std::sync::LazyLock::new(|| {
+        let names = (Sym::new("did"), Term::constant("self"));
+        names.0.make_lasting();
+        names.1.make_lasting();
+        names
+    });
     Term::Compound(NAMES.0.clone(), std::sync::Arc::from([NAMES.1.clone(), action.clone()]))
 }
 

@@ -1,32 +1,64 @@
 //! Interned symbols: the names of constants, variables and functors, one allocation per text.
 //!
-//! Owns: the process-wide table of names and its bound. Must not: keep a name nobody holds past
-//! the next sweep (names come from requests), or order anything by address (order is by text).
+//! Owns: the process-wide table of names, its bound, and which names last (the vocabulary of
+//! verbs and norms, bounded). Must not: keep a name nobody holds past the next sweep unless it
+//! lasts (names come from requests), or order anything by address (order is by text).
 
 use std::borrow::Borrow;
 use std::collections::HashSet;
 use std::fmt;
 use std::hash::{BuildHasher, Hash, Hasher};
 use std::ops::Deref;
-use std::sync::{Arc, LazyLock, Mutex};
+use std::ptr::NonNull;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{LazyLock, Mutex};
 
 use rustc_hash::FxBuildHasher;
 
 /// A symbol. Every symbol of one text is the same allocation, so equality is one address
 /// comparison and hashing writes one precomputed word; order and printing go by the text.
-#[derive(Clone)]
-pub struct Sym(Arc<Name>);
+///
+/// A symbol counts its holders as `Arc` does, except a lasting one: the words of verbs and
+/// norms, which every reading of every request clones and drops on every core. Counting those
+/// made the cores take turns at one cache line (two threads simulated 10,000 readings slower
+/// than one did), so a lasting name is never counted and never freed.
+pub struct Sym(NonNull<Name>);
 
+// SAFETY: a `Name` is immutable but for its atomic count and flag, and is freed only by the
+// table's sweep, under the shard's lock, once no symbol holds it: it is shared as `Arc` shares.
+unsafe impl Send for Sym {}
+unsafe impl Sync for Sym {}
+
+#[repr(C)]
 struct Name {
     /// FxHash of the text: the same in every process and run, so hash-keyed output stays
     /// deterministic.
     hash: u64,
     text: Box<str>,
+    /// Set once, never unset: the table keeps the name for the life of the process, and
+    /// symbols of it neither count nor are counted.
+    lasting: AtomicBool,
+    holders: Holders,
 }
+
+/// How many hold a name that does not last, the table's own hold included; on a cache line
+/// apart from the hash and the text, which every comparison and hash reads.
+#[repr(align(64))]
+struct Holders(AtomicUsize);
+
+/// More holders than this is a leak of symbols gone wrong: abort, as `Arc` does.
+const MAX_HOLDERS: usize = isize::MAX as usize;
+
+/// At most this many names last; more are counted as any other. Verbs and norms are curated, so
+/// a deployment has a few thousand names at most; the bound keeps a flood of new norms from
+/// growing the table for ever.
+const MAX_LASTING: usize = 1 << 16;
+static LASTING: AtomicUsize = AtomicUsize::new(0);
 
 /// The table holds a name as long as a symbol does; a name only the table holds is garbage,
 /// swept once a shard has doubled since its last sweep, so the table stays within about twice
-/// the names alive (plus `FLOOR` per shard) however many requests have come and gone.
+/// the names alive (plus `FLOOR` per shard, plus the lasting names) however many requests have
+/// come and gone.
 const SHARDS: usize = 16;
 const FLOOR: usize = 256;
 
@@ -36,18 +68,44 @@ struct Shard {
     kept: usize,
 }
 
-/// A table entry, found by its text.
-struct Entry(Arc<Name>);
+/// The table's own hold on a name: dropping the entry frees the name.
+struct Entry(NonNull<Name>);
+
+// SAFETY: entries live in the shards' sets, under their locks; see `Sym`.
+unsafe impl Send for Entry {}
+
+impl Entry {
+    fn name(&self) -> &Name {
+        // SAFETY: the entry owns the allocation until it is dropped.
+        unsafe { self.0.as_ref() }
+    }
+
+    /// Only the table holds this name, and it does not last: it may be freed.
+    fn is_garbage(&self) -> bool {
+        let name = self.name();
+        // Acquire: every holder's last use, released by its decrement, happens before the free.
+        !name.lasting.load(Ordering::Acquire) && name.holders.0.load(Ordering::Acquire) == 1
+    }
+}
+
+impl Drop for Entry {
+    fn drop(&mut self) {
+        // SAFETY: made by `Box::into_raw` in `Sym::new`; only garbage entries are dropped (the
+        // sweep's `retain`), and no symbol of a garbage name exists, nor can one be made but
+        // under the shard's lock, which the sweep holds.
+        drop(unsafe { Box::from_raw(self.0.as_ptr()) });
+    }
+}
 
 impl Hash for Entry {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        self.0.text.hash(state);
+        self.name().text.hash(state);
     }
 }
 
 impl PartialEq for Entry {
     fn eq(&self, other: &Self) -> bool {
-        self.0.text == other.0.text
+        self.name().text == other.name().text
     }
 }
 
@@ -55,7 +113,7 @@ impl Eq for Entry {}
 
 impl Borrow<str> for Entry {
     fn borrow(&self) -> &str {
-        &self.0.text
+        &self.name().text
     }
 }
 
@@ -75,30 +133,82 @@ impl Sym {
         // A poisoned shard still holds a consistent set: no code that can panic runs under it.
         let mut shard = shard.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         if let Some(entry) = shard.names.get(text) {
-            return Sym(entry.0.clone());
+            return Sym::held(entry.0);
         }
         if shard.names.len() >= (2 * shard.kept).max(FLOOR) {
-            // Only the table holds a name whose count is 1, and only the table (under this
-            // lock) can hand it out again: dropping it here races with nobody.
-            shard.names.retain(|entry| Arc::strong_count(&entry.0) > 1);
+            shard.names.retain(|entry| !entry.is_garbage());
             shard.kept = shard.names.len();
         }
-        let name = Arc::new(Name {
+        let name = NonNull::from(Box::leak(Box::new(Name {
             hash,
             text: text.into(),
-        });
-        shard.names.insert(Entry(name.clone()));
+            lasting: AtomicBool::new(false),
+            // The table's hold and the symbol returned.
+            holders: Holders(AtomicUsize::new(2)),
+        })));
+        shard.names.insert(Entry(name));
         Sym(name)
     }
 
+    /// A new symbol of a name someone holds.
+    fn held(name: NonNull<Name>) -> Sym {
+        // SAFETY: the caller holds the name (a symbol, or the table under its lock).
+        let n = unsafe { name.as_ref() };
+        // Relaxed, as `Arc::clone`: a new holder is made from an existing one, which keeps the
+        // name alive meanwhile.
+        if !n.lasting.load(Ordering::Relaxed) && n.holders.0.fetch_add(1, Ordering::Relaxed) > MAX_HOLDERS {
+            std::process::abort();
+        }
+        Sym(name)
+    }
+
+    fn name(&self) -> &Name {
+        // SAFETY: a symbol keeps its name alive (it is counted, or the name lasts).
+        unsafe { self.0.as_ref() }
+    }
+
+    /// Makes this name last for the life of the process, uncounted, while fewer than
+    /// [`MAX_LASTING`] do: for the words of verbs and norms, which every reading uses.
+    pub fn make_lasting(&self) {
+        let name = self.name();
+        if name.lasting.load(Ordering::Relaxed) {
+            return;
+        }
+        if LASTING.fetch_add(1, Ordering::Relaxed) >= MAX_LASTING {
+            LASTING.fetch_sub(1, Ordering::Relaxed);
+            return;
+        }
+        // This symbol is counted, so the count stays above the table's own hold from here on:
+        // whatever holders see the flag late, the sweep never finds the name garbage. Two
+        // threads making one name last at once count it twice, which only lowers the bound.
+        name.lasting.store(true, Ordering::Release);
+    }
+
     pub fn as_str(&self) -> &str {
-        &self.0.text
+        &self.name().text
+    }
+}
+
+impl Clone for Sym {
+    fn clone(&self) -> Sym {
+        Sym::held(self.0)
+    }
+}
+
+impl Drop for Sym {
+    fn drop(&mut self) {
+        let name = self.name();
+        if !name.lasting.load(Ordering::Relaxed) {
+            // Release: this holder's uses happen before the sweep that frees the name. The
+            // table holds one count of its own, so no drop here ever frees.
+            name.holders.0.fetch_sub(1, Ordering::Release);
+        }
     }
 }
 
 impl PartialEq for Sym {
     fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
+        self.0 == other.0
     }
 }
 
@@ -118,7 +228,7 @@ impl PartialEq<&str> for Sym {
 
 impl Hash for Sym {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        state.write_u64(self.0.hash);
+        state.write_u64(self.name().hash);
     }
 }
 
@@ -188,7 +298,7 @@ mod tests {
     #[test]
     fn one_text_is_one_symbol_and_order_is_by_text() {
         let (a, b) = (Sym::new("vase"), Sym::from(String::from("vase")));
-        assert!(Arc::ptr_eq(&a.0, &b.0));
+        assert_eq!(a.0, b.0);
         assert_eq!(a, b);
         assert_ne!(a, Sym::new("vase2"));
         assert_eq!(FxBuildHasher.hash_one(&a), FxBuildHasher.hash_one(&b));
@@ -225,7 +335,7 @@ mod tests {
         });
         for syms in &per_thread[1..] {
             for (a, b) in per_thread[0].iter().zip(syms) {
-                assert!(Arc::ptr_eq(&a.0, &b.0), "{a} was interned twice");
+                assert_eq!(a.0, b.0, "{a} was interned twice");
             }
         }
     }
@@ -243,13 +353,56 @@ mod tests {
         for shard in TABLE.iter() {
             let shard = shard.lock().unwrap();
             total += shard.names.len();
-            live += shard.names.iter().filter(|e| Arc::strong_count(&e.0) > 1).count();
+            live += shard.names.iter().filter(|e| !e.is_garbage()).count();
         }
         assert!(
             total <= 2 * live + SHARDS * FLOOR,
             "the table kept {total} names, {live} alive"
         );
         let again = Sym::new("held-across-sweeps");
-        assert!(Arc::ptr_eq(&held.0, &again.0));
+        assert_eq!(held.0, again.0);
+    }
+
+    #[test]
+    fn a_lasting_name_outlives_its_holders_and_is_still_one_symbol() {
+        let verb = Sym::new("a-verb-that-lasts");
+        verb.make_lasting();
+        let address = verb.0;
+        let copies: Vec<Sym> = (0..1000).map(|_| verb.clone()).collect();
+        drop((verb, copies));
+        // Sweeps run while nobody holds it.
+        for i in 0..100_000 {
+            drop(Sym::new(&format!("swept-{i}")));
+        }
+        let again = Sym::new("a-verb-that-lasts");
+        assert_eq!(again.0, address);
+        assert_eq!(again, again.clone());
+        assert_eq!(again.as_str(), "a-verb-that-lasts");
+    }
+
+    #[test]
+    fn a_name_made_lasting_while_other_threads_count_it_is_never_freed() {
+        // Threads clone and drop a name while it is made lasting under them; sweeps run beside.
+        let name = Sym::new("lasting-under-load");
+        std::thread::scope(|scope| {
+            for t in 0..3 {
+                let name = name.clone();
+                scope.spawn(move || {
+                    for i in 0..20_000 {
+                        let copy = name.clone();
+                        if i % 50 == 0 {
+                            drop(Sym::new(&format!("churn-lasting-{t}-{i}")));
+                        }
+                        assert_eq!(copy.as_str(), "lasting-under-load");
+                    }
+                });
+            }
+            name.make_lasting();
+        });
+        drop(name);
+        for i in 0..50_000 {
+            drop(Sym::new(&format!("after-lasting-{i}")));
+        }
+        assert_eq!(Sym::new("lasting-under-load").as_str(), "lasting-under-load");
     }
 }

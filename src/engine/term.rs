@@ -133,6 +133,18 @@ impl Term {
         }
     }
 
+    /// Makes every name in the term last for the process (see [`Sym::make_lasting`]): for the
+    /// terms of verbs and norms, which every reading copies.
+    pub fn make_lasting(&self) {
+        match self {
+            Term::Const(name) | Term::Var(name) => name.make_lasting(),
+            Term::Compound(name, args) => {
+                name.make_lasting();
+                args.iter().for_each(Term::make_lasting);
+            }
+        }
+    }
+
     /// Variables in the order they first appear, each once.
     pub fn variables(&self) -> Vec<Sym> {
         fn walk(term: &Term, out: &mut Vec<Sym>) {
