@@ -4,6 +4,7 @@
 //! Owns: which features describe an object, their order, and how actions are spoken.
 //! Must not: depend on hash order; the same scene always yields the same words.
 
+use std::collections::BTreeMap;
 use std::sync::{Arc, OnceLock};
 
 use rustc_hash::FxHashMap;
@@ -41,13 +42,29 @@ impl Feature<'_> {
 /// parentheses when distractors remain.
 pub fn describe_object(scene: &Scene, object: &Object) -> String {
     let others = || scene.same_kind(&object.kind, &object.id);
-    describe_among(object, others().count(), || others().collect())
+    let (text, distractors) = describe_among(object, others().count(), || others().collect());
+    with_id(text, distractors, object)
 }
 
-/// [`describe_object`], given how many other objects are of its type and how to list them (in
-/// scene order): they are listed only once a feature is tried, so that an object with none (most,
-/// in a large scene of one type) is described by counting them.
-fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s Object>) -> String {
+/// The description, and the object's id after it when distractors remain.
+fn with_id(mut text: String, distractors: bool, object: &Object) -> String {
+    if distractors {
+        text.push_str(" (");
+        text.push_str(&object.id);
+        text.push(')');
+    }
+    text
+}
+
+/// [`describe_object`] but the id: the words, and whether distractors remain. Given how many
+/// other objects are of its type and how to list them (in scene order): they are listed only
+/// once a feature is tried, so that an object with none (most, in a large scene of one type) is
+/// described by counting them.
+///
+/// The result depends only on the object's type and features: the object itself has every
+/// feature it lists, so the distractors left after each feature are the objects of its type
+/// with the features so far, less itself, whichever object of that type and features it is.
+fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s Object>) -> (String, bool) {
     let features = object
         .properties
         .iter()
@@ -67,11 +84,7 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s
         }
     }
     words.push(spoken(&object.kind));
-    let mut text = words.join(" ");
-    if distractors.map_or(others > 0, |d| !d.is_empty()) {
-        text.push_str(&format!(" ({})", object.id));
-    }
-    text
+    (words.join(" "), distractors.map_or(others > 0, |d| !d.is_empty()))
 }
 
 /// Up to this many objects, the objects of a type are found by scanning the scene: listing
@@ -79,6 +92,9 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s
 const SCAN_KINDS: usize = 64;
 
 type Kinds<'a> = FxHashMap<&'a str, Vec<&'a Object>>;
+
+/// What an object's description depends on besides its id: its type and features.
+type Look<'a> = (&'a str, &'a [String], &'a BTreeMap<String, String>);
 
 /// Describes objects, each at most once per request (per thread, when many readings are
 /// described at once).
@@ -90,6 +106,9 @@ pub struct Describer<'a> {
     /// In a large scene, the objects of each type, in scene order, listed at the first
     /// description, and shared with the describers made from this one ([`Describer::fresh`]).
     kinds: Arc<OnceLock<Kinds<'a>>>,
+    /// In a large scene, the words for each type and features described so far, and whether
+    /// distractors remain: objects that look alike are described by one pass over their type.
+    looks: FxHashMap<Look<'a>, (String, bool)>,
 }
 
 impl<'a> Describer<'a> {
@@ -99,6 +118,7 @@ impl<'a> Describer<'a> {
             library,
             cache: FxHashMap::default(),
             kinds: Arc::default(),
+            looks: FxHashMap::default(),
         }
     }
 
@@ -110,6 +130,7 @@ impl<'a> Describer<'a> {
             library: self.library,
             cache: FxHashMap::default(),
             kinds: self.kinds.clone(),
+            looks: FxHashMap::default(),
         }
     }
 
@@ -146,9 +167,13 @@ impl<'a> Describer<'a> {
                 }
                 kinds
             });
-            let of_kind = kinds.get(object.kind.as_str()).map_or(&[][..], Vec::as_slice);
-            let others = || of_kind.iter().copied().filter(|o| o.id != object.id);
-            describe_among(object, of_kind.len().saturating_sub(1), || others().collect())
+            let look = (object.kind.as_str(), &object.properties[..], &object.attributes);
+            let (text, distractors) = self.looks.entry(look).or_insert_with(|| {
+                let of_kind = kinds.get(object.kind.as_str()).map_or(&[][..], Vec::as_slice);
+                let others = || of_kind.iter().copied().filter(|o| o.id != object.id);
+                describe_among(object, of_kind.len().saturating_sub(1), || others().collect())
+            });
+            with_id(text.clone(), *distractors, object)
         };
         out.push_str(&words);
         self.cache.insert(name.clone(), words);

@@ -293,3 +293,32 @@ fn many_readings_keep_their_own_words_in_the_contracts_order() {
         "not in the contract's order"
     );
 }
+
+proptest! {
+    /// In a scene large enough to list objects by type, objects that look alike are described
+    /// once for all of them: every object still gets the words a scan of the scene gives it,
+    /// its own id included.
+    #[test]
+    fn objects_that_look_alike_are_described_as_a_scan_describes_each(
+        looks in proptest::collection::vec((0..2usize, proptest::collection::vec(0..3usize, 0..3), 0..3usize), 65..140)
+    ) {
+        let objects = (looks.iter().enumerate())
+            .map(|(i, (kind, properties, color))| {
+                let properties: Vec<&str> = properties.iter().map(|p| ["fragile", "heavy", "red"][*p]).collect();
+                let attributes: &[(&str, &str)] = match color {
+                    0 => &[],
+                    1 => &[("color", "green")],
+                    _ => &[("color", "blue")],
+                };
+                obj(&format!("o{i}"), ["cup", "plate"][*kind], &properties, attributes, [0.5, 0.0, 0.8], None)
+            })
+            .collect();
+        let scene = scene(objects, &[]);
+        let library = Library::default_library();
+        let mut describer = super::super::describe::Describer::new(&scene, &library);
+        for object in &scene.objects {
+            let scanned = super::super::describe::describe_object(&scene, object);
+            prop_assert_eq!(describer.argument(&Term::constant(&object.id)), scanned);
+        }
+    }
+}
