@@ -1,36 +1,22 @@
 //! The facts a scene states, as the fact base of a decision starts from them.
 //!
-//! Owns: which facts each object yields, and their order. Must not: depend on hash order or on
-//! how many threads state them.
+//! Owns: which facts each object yields, and their order. Must not: depend on hash order.
 
 use std::sync::Arc;
 
-use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::{Object, Scene};
 use crate::engine::term::{Sym, Term};
 
-/// Objects whose facts one thread states at a time.
-const OBJECTS_PER_TASK: usize = 2048;
-
 impl Scene {
     /// Every fact the scene states: for each object its type, properties and attributes, then
-    /// `facts` as given. A large scene's objects are stated on rayon's pool, in scene order.
+    /// `facts` as given. On one thread: the facts of one type share its name's count, which
+    /// threads stating them side by side would take turns at (10,000 objects took a quarter
+    /// longer on two threads than on one).
     pub fn all_facts(&self) -> Vec<Term> {
         let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
-        if self.objects.len() <= OBJECTS_PER_TASK {
-            object_facts(&self.objects, &mut out);
-        } else {
-            let parts: Vec<Vec<Term>> = (self.objects.par_chunks(OBJECTS_PER_TASK))
-                .map(|objects| {
-                    let mut facts = Vec::with_capacity(objects.len() * 2);
-                    object_facts(objects, &mut facts);
-                    facts
-                })
-                .collect();
-            parts.into_iter().for_each(|facts| out.extend(facts));
-        }
+        object_facts(&self.objects, &mut out);
         out.extend(self.facts.iter().cloned());
         out
     }
