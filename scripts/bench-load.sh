@@ -19,7 +19,8 @@ fi
 cargo build --release --quiet --bin scruple --example floor --example grpc_body
 work=$(mktemp -d)
 pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"; }
+# The servers start in `$(...)`, a subshell, so their pids are read back from their files.
+cleanup() { for p in "${pids[@]}" $(cat "$work"/*.pid 2>/dev/null); do kill "$p" 2>/dev/null || true; done; rm -rf "$work"; }
 trap cleanup EXIT
 
 start() { # name, command...: starts a server, echoes its address

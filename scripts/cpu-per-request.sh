@@ -20,8 +20,10 @@ start() { # name binary: starts a server with the paper's norms, echoes "pid add
   pids+=($!)
   echo "$! $(listening_addr "$work/$1.out")"
 }
+# `start` runs in a subshell here: the pids it adds are lost there, so they are added again.
 read -r pid_a addr_a < <(start a "$a")
 read -r pid_b addr_b < <(start b "$b")
+pids+=("$pid_a" "$pid_b")
 python3 - "$addr_a" "$addr_b" "$work" "$body" <<'PY'
 import json, sys, urllib.request
 *addrs, work, body = sys.argv[1:]
