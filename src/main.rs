@@ -447,10 +447,15 @@ fn give_back_when_idle() {
 }
 
 fn main() -> ExitCode {
-    // Freed memory goes back to the OS at once, not 10 ms later: a thread that has just finished
-    // a heavy decision is often idle after it, and an idle thread's heap is never purged late.
-    // SAFETY: sets an option before any thread but this one allocates.
-    unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, 0) };
+    // A server's freed memory goes back to the OS at once, not 10 ms later: a thread that has
+    // just finished a heavy decision is often idle after it, and an idle thread's heap is never
+    // purged late. The offline commands keep mimalloc's delay: a replay frees and takes again
+    // without pause, and purging at once made it fault its pages back in (system time was up
+    // to as much as user time).
+    if std::env::args_os().nth(1).is_some_and(|command| command == "serve") {
+        // SAFETY: sets an option before any thread but this one allocates.
+        unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, 0) };
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .thread_keep_alive(BLOCKING_KEEP_ALIVE)
