@@ -405,4 +405,28 @@ mod tests {
         }
         assert_eq!(Sym::new("lasting-under-load").as_str(), "lasting-under-load");
     }
+
+    #[test]
+    fn past_the_bound_a_name_made_lasting_is_counted_and_swept_as_any_other() {
+        // Fill whatever is left of the process's lasting budget (other tests share it).
+        let mut filler = 0;
+        while LASTING.load(Ordering::Relaxed) < MAX_LASTING {
+            Sym::new(&format!("lasting-filler-{filler}")).make_lasting();
+            filler += 1;
+        }
+        let late = Sym::new("made-lasting-too-late");
+        late.make_lasting();
+        assert!(!late.name().lasting.load(Ordering::Relaxed));
+        drop(late);
+        // Enough new names that every shard, lasting fillers and all, doubles and is swept.
+        for i in 0..400_000 {
+            drop(Sym::new(&format!("sweeping-the-late-one-{i}")));
+        }
+        let hash = FxBuildHasher.hash_one("made-lasting-too-late");
+        let shard = TABLE[(hash >> 60) as usize % SHARDS].lock().unwrap();
+        assert!(
+            !shard.names.contains("made-lasting-too-late"),
+            "a name past the bound was kept"
+        );
+    }
 }
