@@ -90,7 +90,7 @@ impl Entry {
 
 impl Drop for Entry {
     fn drop(&mut self) {
-        // SAFETY: made by `Box::into_raw` in `Sym::new`; only garbage entries are dropped (the
+        // SAFETY: made by `Box::leak` in `Sym::new`; only garbage entries are dropped (the
         // sweep's `retain`), and no symbol of a garbage name exists, nor can one be made but
         // under the shard's lock, which the sweep holds.
         drop(unsafe { Box::from_raw(self.0.as_ptr()) });
