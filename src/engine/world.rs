@@ -6,7 +6,7 @@
 //! hash set where order reaches the output (every iteration here is in insertion order).
 //! Hashing is FxHash: the keys are terms the engine built, and speed matters per reading.
 
-use std::hash::BuildHasher;
+use std::hash::{BuildHasher, Hash};
 use std::sync::Arc;
 
 use indexmap::{Equivalent, IndexSet};
@@ -28,13 +28,18 @@ fn key_of(term: &Term) -> Option<Key> {
     term.name().map(|name| (name.clone(), term.arity()))
 }
 
-/// The facts of the scene, built once per request and shared by every reading.
+/// The facts of the scene, built once per request and shared by every reading. Each fact is
+/// held once: the set and the index hold positions, not copies.
 #[derive(Debug, Default)]
 pub struct Base {
-    /// Only asked whether a fact is in it, never iterated: a plain hash set, one probe away.
-    facts: hashbrown::HashSet<Term, FxBuildHasher>,
-    /// Facts by functor, in the order the scene states them.
-    index: FxHashMap<Key, Vec<Term>>,
+    /// Every fact once, in the order the scene states them.
+    facts: Vec<Term>,
+    /// Positions in `facts`, by each fact's hash: asked whether a fact is in it, never iterated.
+    set: hashbrown::HashTable<u32>,
+    /// Positions in `facts`, grouped by functor and arity (each group in scene order).
+    grouped: Vec<u32>,
+    /// Each functor and arity's group, as a range of `grouped`.
+    index: FxHashMap<Key, (u32, u32)>,
     /// One bit per functor and arity of `index` (a key's hash picks one of 1,024): a key whose
     /// bit is clear has no fact here, found without a lookup.
     keys: [u64; 16],
@@ -67,16 +72,73 @@ impl Base {
         let facts = facts.into_iter();
         let mut base = Base::default();
         base.facts.reserve(facts.size_hint().0);
+        base.set.reserve(facts.size_hint().0, |_| 0);
+        // Each fact's group (its key's, numbered as keys first appear), and how many each has.
+        let mut groups: Vec<u32> = Vec::with_capacity(facts.size_hint().0);
+        let mut sizes: Vec<u32> = Vec::new();
         for fact in facts {
-            if base.facts.insert(fact.clone())
-                && let Some(key) = key_of(&fact)
-            {
-                let (word, bit) = key_bit(&key);
-                base.keys[word] |= bit;
-                base.index.entry(key).or_default().push(fact);
+            let hash = FxBuildHasher.hash_one(&fact);
+            if base.set.find(hash, |&i| base.facts[i as usize] == fact).is_some() {
+                continue;
+            }
+            let group = match key_of(&fact) {
+                Some(key) => {
+                    let (word, bit) = key_bit(&key);
+                    base.keys[word] |= bit;
+                    let next = sizes.len() as u32;
+                    let (group, _) = *base.index.entry(key).or_insert((next, 0));
+                    if group == next {
+                        sizes.push(0);
+                    }
+                    sizes[group as usize] += 1;
+                    group
+                }
+                // A variable is never a fact of a scene; kept findable, in no group.
+                None => u32::MAX,
+            };
+            groups.push(group);
+            let position = base.facts.len() as u32;
+            let facts = &base.facts;
+            (base.set).insert_unique(hash, position, |&i| FxBuildHasher.hash_one(&facts[i as usize]));
+            base.facts.push(fact);
+        }
+        // Where each group starts, then each position into its group in scene order.
+        let mut starts: Vec<u32> = Vec::with_capacity(sizes.len());
+        let mut at = 0;
+        for size in &sizes {
+            starts.push(at);
+            at += size;
+        }
+        for range in base.index.values_mut() {
+            let group = range.0 as usize;
+            *range = (starts[group], starts[group] + sizes[group]);
+        }
+        base.grouped = vec![0; at as usize];
+        for (position, &group) in groups.iter().enumerate() {
+            if let Some(next) = starts.get_mut(group as usize) {
+                base.grouped[*next as usize] = position as u32;
+                *next += 1;
             }
         }
         base
+    }
+
+    /// Whether the base states `fact` (a term, or a ground key with its hash known).
+    fn contains<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> bool {
+        self.get(fact).is_some()
+    }
+
+    /// The base's own copy of `fact`, if it states it.
+    fn get<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> Option<&Term> {
+        let hash = FxBuildHasher.hash_one(fact);
+        let found = self.set.find(hash, |&i| fact.equivalent(&self.facts[i as usize]))?;
+        Some(&self.facts[*found as usize])
+    }
+
+    /// The facts of one functor and arity, in scene order.
+    fn of_key<'a>(&'a self, key: &Key) -> impl Iterator<Item = &'a Term> + use<'a> {
+        let (start, end) = self.index.get(key).copied().unwrap_or((0, 0));
+        (self.grouped[start as usize..end as usize].iter()).map(|&i| &self.facts[i as usize])
     }
 
     pub fn len(&self) -> usize {
@@ -111,7 +173,7 @@ impl World {
     pub fn holds(&self, fact: &Term) -> bool {
         // An empty overlay set is not hashed into: most readings change a fact or two.
         (!self.added.is_empty() && self.added.contains(fact))
-            || (self.base.facts.contains(fact) && (self.removed.is_empty() || !self.removed.contains(fact)))
+            || (self.base.contains(fact) && (self.removed.is_empty() || !self.removed.contains(fact)))
     }
 
     /// [`World::holds`] for a ground term under a substitution, without building it. A small
@@ -122,7 +184,7 @@ impl World {
             1..=SCAN_AT_MOST => set.iter().any(|f| fact.bound.equivalent(f)),
             _ => set.contains(&fact),
         };
-        in_small(&self.added) || (self.base.facts.contains(&fact) && !in_small(&self.removed))
+        in_small(&self.added) || (self.base.contains(&fact) && !in_small(&self.removed))
     }
 
     /// The fact a ground key stands for, as this world holds it; `None` if it does not hold.
@@ -135,7 +197,7 @@ impl World {
         if in_added.is_some() {
             return in_added;
         }
-        let found = self.base.facts.get(&fact)?;
+        let found = self.base.get(&fact)?;
         (self.removed.is_empty() || !self.removed.contains(found)).then_some(found)
     }
 
@@ -166,7 +228,7 @@ impl World {
         if self.added.shift_remove(fact) {
             return true;
         }
-        if self.base.facts.contains(fact) {
+        if self.base.contains(fact) {
             return self.removed.insert(fact.clone());
         }
         false
@@ -178,18 +240,18 @@ impl World {
         let live = move |fact: &&Term| !self.removed.contains(*fact);
         match key_of(pattern) {
             Some(key) => {
-                let base = self.base.index.get(&key).map(|v| v.as_slice()).unwrap_or(&[]);
+                let base = self.base.of_key(&key);
                 let name = key.0.clone();
                 let arity = key.1;
                 Box::new(
-                    base.iter().filter(live).chain(
+                    base.filter(live).chain(
                         self.added
                             .iter()
                             .filter(move |f| f.name() == Some(&name) && f.arity() == arity),
                     ),
                 )
             }
-            None => Box::new(self.base.index.values().flatten().filter(live).chain(self.added.iter())),
+            None => Box::new(self.base.facts.iter().filter(live).chain(self.added.iter())),
         }
     }
 
@@ -273,5 +335,38 @@ mod tests {
         assert_eq!(found, vec!["o3"]);
         assert!(world.satisfiable(&[t("holding(self,Y)"), t("vase(Y)")], &Subst::new()));
         assert!(!world.satisfiable(&[t("holding(self,Y)"), t("on(Y,Z)")], &Subst::new()));
+    }
+
+    #[test]
+    fn a_base_holds_each_fact_once_and_lists_a_functor_in_scene_order() {
+        let base = Base::new([
+            t("vase(o4)"),
+            t("on(o4,shelf)"),
+            t("vase(o3)"),
+            t("vase(o4)"),
+            t("on(o3,table)"),
+            t("color(o3,red)"),
+        ]);
+        assert_eq!(base.len(), 5);
+        let listed = |pattern: &str| -> Vec<String> {
+            let key = key_of(&t(pattern)).unwrap();
+            base.of_key(&key).map(Term::to_string).collect()
+        };
+        assert_eq!(listed("vase(X)"), ["vase(o4)", "vase(o3)"]);
+        assert_eq!(listed("on(X,Y)"), ["on(o4,shelf)", "on(o3,table)"]);
+        assert_eq!(listed("color(X,Y)"), ["color(o3,red)"]);
+        assert!(listed("on(X)").is_empty());
+        assert!(base.contains(&t("on(o3,table)")));
+        assert!(!base.contains(&t("on(o3,shelf)")));
+        let world = World::new(Arc::new(base));
+        let mut all = Vec::new();
+        world.solve(&[t("X")], &Subst::new(), &mut |s| {
+            all.push(t("X").substitute(s).to_string());
+            true
+        });
+        assert_eq!(
+            all,
+            ["vase(o4)", "on(o4,shelf)", "vase(o3)", "on(o3,table)", "color(o3,red)"]
+        );
     }
 }
