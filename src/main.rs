@@ -452,7 +452,8 @@ fn main() -> ExitCode {
     // purged late. The offline commands keep mimalloc's delay: a replay frees and takes again
     // without pause, and purging at once made it fault its pages back in (system time was up
     // to as much as user time).
-    if std::env::args_os().nth(1).is_some_and(|command| command == "serve") {
+    let cli = Cli::parse();
+    if matches!(cli.command, Command::Serve(_)) {
         // SAFETY: sets an option before any thread but this one allocates.
         unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, 0) };
     }
@@ -462,7 +463,7 @@ fn main() -> ExitCode {
         .on_thread_park(give_back_when_idle)
         .build();
     match runtime {
-        Ok(runtime) => runtime.block_on(run()),
+        Ok(runtime) => runtime.block_on(run(cli)),
         Err(e) => {
             eprintln!("scruple: cannot start the runtime: {e}");
             ExitCode::FAILURE
@@ -470,8 +471,7 @@ fn main() -> ExitCode {
     }
 }
 
-async fn run() -> ExitCode {
-    let Cli { command } = Cli::parse();
+async fn run(Cli { command }: Cli) -> ExitCode {
     match &command {
         Command::Serve(args) => init_logs(args.log_format, "info"),
         _ => init_logs(LogFormat::Text, "warn"),
