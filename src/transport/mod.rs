@@ -68,16 +68,20 @@ pub fn is_grpc(request: &axum::extract::Request) -> bool {
 }
 
 /// Answers with more readings than this are converted and written on the blocking pool.
-pub const LARGE_ANSWER: usize = 512;
+const LARGE_ANSWER: usize = 512;
 
-/// A large decision's answer, made on the blocking pool (tens of megabytes of words take a
-/// runtime thread for tens of milliseconds, and health checks and small decisions must not wait
-/// behind it). The decision is freed there too, after the answer is handed back: freeing
-/// 100,000 readings is milliseconds the client need not wait for.
-pub async fn large_answer<T: Send + 'static>(
+/// A decision's answer, as `write` makes it: here, for an answer of at most [`LARGE_ANSWER`]
+/// readings; else on the blocking pool (tens of megabytes of words take a runtime thread for
+/// tens of milliseconds, and health checks and small decisions must not wait behind it). A
+/// large decision is freed there too, after the answer is handed back: freeing 100,000 readings
+/// is milliseconds the client need not wait for.
+pub async fn answer<T: Send + 'static>(
     decision: crate::engine::Decision,
     write: impl FnOnce(&crate::engine::Decision) -> T + Send + 'static,
 ) -> Result<T, crate::error::Error> {
+    if decision.interpretations.len() <= LARGE_ANSWER {
+        return Ok(write(&decision));
+    }
     let (answer, answered) = tokio::sync::oneshot::channel();
     tokio::task::spawn_blocking(move || {
         // A receiver gone means the client went away: the answer is dropped with the rest.

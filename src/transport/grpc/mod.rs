@@ -83,11 +83,7 @@ impl Clarifier for ClarifierService {
         let body = ClarifyBody::try_from(request.into_inner())?;
         let text = body.directive.text.clone();
         let decision = self.state.core.clarify(body.into(), text.as_deref(), arrived).await?;
-        if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
-            return Ok(Response::new(DecisionDto::new(&decision, text).into()));
-        }
-        // As over REST: a large answer is converted on the blocking pool.
-        let answer = crate::transport::large_answer(decision, move |decision| {
+        let answer = crate::transport::answer(decision, move |decision| {
             pb::ClarifyResponse::from(DecisionDto::new(decision, text))
         })
         .await?;

@@ -503,19 +503,10 @@ async fn clarify(
     let arrived = arrival.map_or_else(std::time::Instant::now, |a| a.0.0);
     let text = body.directive.text.clone();
     let decision = app.core.clarify(body.into(), text.as_deref(), arrived).await?;
-    if decision.interpretations.len() <= crate::transport::LARGE_ANSWER {
-        return Ok(Json(DecisionDto::new(&decision, text)).into_response());
-    }
-    let body = crate::transport::large_answer(decision, move |decision| {
-        serde_json::to_vec(&DecisionDto::new(decision, text))
+    crate::transport::answer(decision, move |decision| {
+        Json(DecisionDto::new(decision, text)).into_response()
     })
-    .await?
-    .map_err(|e| Error::Internal(format!("writing the answer failed: {e}")))?;
-    Ok((
-        [(header::CONTENT_TYPE, HeaderValue::from_static("application/json"))],
-        body,
-    )
-        .into_response())
+    .await
 }
 
 #[utoipa::path(post, path = "/v1/check", tag = "clarify",
