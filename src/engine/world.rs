@@ -72,7 +72,9 @@ impl Base {
         let facts = facts.into_iter();
         let mut base = Base::default();
         base.facts.reserve(facts.size_hint().0);
-        base.set.reserve(facts.size_hint().0, |_| 0);
+        // The table rehashes a position by hashing the fact there.
+        let hash_at = |facts: &[Term], i: u32| FxBuildHasher.hash_one(&facts[i as usize]);
+        base.set.reserve(facts.size_hint().0, |&i| hash_at(&base.facts, i));
         // Each fact's group (its key's, numbered as keys first appear), and how many each has.
         let mut groups: Vec<u32> = Vec::with_capacity(facts.size_hint().0);
         let mut sizes: Vec<u32> = Vec::new();
@@ -99,7 +101,7 @@ impl Base {
             groups.push(group);
             let position = base.facts.len() as u32;
             let facts = &base.facts;
-            (base.set).insert_unique(hash, position, |&i| FxBuildHasher.hash_one(&facts[i as usize]));
+            base.set.insert_unique(hash, position, |&i| hash_at(facts, i));
             base.facts.push(fact);
         }
         // Where each group starts, then each position into its group in scene order.
