@@ -1,8 +1,9 @@
 //! Interned symbols: the names of constants, variables and functors, one allocation per text.
 //!
 //! Owns: the process-wide table of names, its bound, and which names last (the vocabulary of
-//! verbs and norms, bounded). Must not: keep a name nobody holds past the next sweep unless it
-//! lasts (names come from requests), or order anything by address (order is by text).
+//! verbs and norms, and the names requests use most; each set bounded). Must not: keep a name
+//! nobody holds past the next sweep unless it lasts (names come from requests), or order
+//! anything by address (order is by text).
 
 use std::borrow::Borrow;
 use std::collections::HashSet;
@@ -10,7 +11,7 @@ use std::fmt;
 use std::hash::{BuildHasher, Hash, Hasher};
 use std::ops::Deref;
 use std::ptr::NonNull;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::sync::{LazyLock, Mutex};
 
 use rustc_hash::FxBuildHasher;
@@ -19,9 +20,11 @@ use rustc_hash::FxBuildHasher;
 /// comparison and hashing writes one precomputed word; order and printing go by the text.
 ///
 /// A symbol counts its holders as `Arc` does, except a lasting one: the words of verbs and
-/// norms, which every reading of every request clones and drops on every core. Counting those
-/// made the cores take turns at one cache line (two threads simulated 10,000 readings slower
-/// than one did), so a lasting name is never counted and never freed.
+/// norms, which every reading of every request clones and drops on every core, and the names
+/// requests intern most often ("vase", "table", "red"), which requests on every core clone and
+/// drop at once. Counting those made the cores take turns at one cache line (two threads
+/// simulated 10,000 readings slower than one did), so a lasting name is never counted and
+/// never freed.
 pub struct Sym(NonNull<Name>);
 
 // SAFETY: a `Name` is immutable but for its atomic count and flag, and is freed only by the
@@ -38,6 +41,9 @@ struct Name {
     /// Set once, never unset: the table keeps the name for the life of the process, and
     /// symbols of it neither count nor are counted.
     lasting: AtomicBool,
+    /// How often the name was interned while in the table; written only under its shard's
+    /// lock. At [`OFTEN`] the name lasts, if the budget of [`MAX_OFTEN`] allows.
+    interned: AtomicU32,
     holders: Holders,
 }
 
@@ -54,6 +60,20 @@ const MAX_HOLDERS: usize = isize::MAX as usize;
 /// growing the table for ever.
 const MAX_LASTING: usize = 1 << 16;
 static LASTING: AtomicUsize = AtomicUsize::new(0);
+
+/// A name interned this often while in the table lasts (the paper's request interns each of
+/// its names a few times, so a name common to requests lasts after a few dozen of them).
+const OFTEN: u32 = 64;
+/// At most this many names last for being interned often, apart from [`MAX_LASTING`]: names
+/// come from requests, so a client repeating junk names can fill this budget, never the
+/// curated one; past it, names are counted as any other. With [`OFTEN_AT_MOST`] this keeps
+/// at most a few MiB.
+const MAX_OFTEN: usize = 1 << 14;
+/// Only names of at most this many bytes (a request's object ids, types and properties are
+/// no longer) last for being interned often: a fact may carry a longer name, which must not
+/// be kept for ever.
+const OFTEN_AT_MOST: usize = super::input::MAX_NAME_LEN;
+static OFTEN_LASTING: AtomicUsize = AtomicUsize::new(0);
 
 /// The table holds a name as long as a symbol does; a name only the table holds is garbage,
 /// swept once a shard has doubled since its last sweep, so the table stays within about twice
@@ -133,6 +153,7 @@ impl Sym {
         // A poisoned shard still holds a consistent set: no code that can panic runs under it.
         let mut shard = shard.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         if let Some(entry) = shard.names.get(text) {
+            entry.name().interned_again();
             return Sym::held(entry.0);
         }
         if shard.names.len() >= (2 * shard.kept).max(FLOOR) {
@@ -143,6 +164,7 @@ impl Sym {
             hash,
             text: text.into(),
             lasting: AtomicBool::new(false),
+            interned: AtomicU32::new(1),
             // The table's hold and the symbol returned.
             holders: Holders(AtomicUsize::new(2)),
         })));
@@ -170,22 +192,42 @@ impl Sym {
     /// Makes this name last for the life of the process, uncounted, while fewer than
     /// [`MAX_LASTING`] do: for the words of verbs and norms, which every reading uses.
     pub fn make_lasting(&self) {
-        let name = self.name();
-        if name.lasting.load(Ordering::Relaxed) {
-            return;
-        }
-        if LASTING.fetch_add(1, Ordering::Relaxed) >= MAX_LASTING {
-            LASTING.fetch_sub(1, Ordering::Relaxed);
-            return;
-        }
         // This symbol is counted, so the count stays above the table's own hold from here on:
-        // whatever holders see the flag late, the sweep never finds the name garbage. Two
-        // threads making one name last at once count it twice, which only lowers the bound.
-        name.lasting.store(true, Ordering::Release);
+        // whatever holders see the flag late, the sweep never finds the name garbage.
+        self.name().last_within(&LASTING, MAX_LASTING);
     }
 
     pub fn as_str(&self) -> &str {
         &self.name().text
+    }
+}
+
+impl Name {
+    /// Makes the name last if `budget` has room below `bound`. The caller holds the name (a
+    /// counted symbol, or the table under the shard's lock), so no sweep can find it garbage
+    /// while the flag is set. Two threads making one name last at once take two places in
+    /// the budget, which only lowers the bound.
+    fn last_within(&self, budget: &AtomicUsize, bound: usize) {
+        if self.lasting.load(Ordering::Relaxed) {
+            return;
+        }
+        if budget.fetch_add(1, Ordering::Relaxed) >= bound {
+            budget.fetch_sub(1, Ordering::Relaxed);
+            return;
+        }
+        self.lasting.store(true, Ordering::Release);
+    }
+
+    /// Counts one more interning of a name found in the table (under its shard's lock, so the
+    /// load and the store cannot interleave with another's), and makes it last at [`OFTEN`].
+    fn interned_again(&self) {
+        let times = self.interned.load(Ordering::Relaxed);
+        if times < OFTEN && self.text.len() <= OFTEN_AT_MOST {
+            self.interned.store(times + 1, Ordering::Relaxed);
+            if times + 1 == OFTEN {
+                self.last_within(&OFTEN_LASTING, MAX_OFTEN);
+            }
+        }
     }
 }
 
@@ -404,6 +446,54 @@ mod tests {
             drop(Sym::new(&format!("after-lasting-{i}")));
         }
         assert_eq!(Sym::new("lasting-under-load").as_str(), "lasting-under-load");
+    }
+
+    /// Interns `text` [`OFTEN`] times while one symbol of it is held (so no sweep can take it
+    /// in between), and says whether it lasts.
+    fn interned_often(text: &str) -> bool {
+        let held = Sym::new(text);
+        for _ in 1..OFTEN {
+            drop(Sym::new(text));
+        }
+        held.name().lasting.load(Ordering::Relaxed)
+    }
+
+    #[test]
+    fn a_name_interned_often_lasts_unless_it_is_long_or_the_budget_is_spent() {
+        let common = Sym::new("interned-often");
+        for _ in 2..OFTEN {
+            drop(Sym::new("interned-often"));
+        }
+        assert!(!common.name().lasting.load(Ordering::Relaxed), "lasts too early");
+        drop(Sym::new("interned-often"));
+        assert!(common.name().lasting.load(Ordering::Relaxed));
+        let address = common.0;
+        drop(common);
+        for i in 0..100_000 {
+            drop(Sym::new(&format!("sweeping-the-often-one-{i}")));
+        }
+        assert_eq!(Sym::new("interned-often").0, address, "a lasting name was swept");
+
+        let long = "l".repeat(OFTEN_AT_MOST + 1);
+        assert!(!interned_often(&long), "a long name lasts");
+        assert!(interned_often(&"s".repeat(OFTEN_AT_MOST)));
+
+        // Spend what is left of the budget (other tests share it), then one more.
+        let mut filler = 0;
+        while OFTEN_LASTING.load(Ordering::Relaxed) < MAX_OFTEN {
+            interned_often(&format!("often-filler-{filler}"));
+            filler += 1;
+        }
+        assert!(!interned_often("interned-often-too-late"));
+        for i in 0..400_000 {
+            drop(Sym::new(&format!("sweeping-the-late-often-one-{i}")));
+        }
+        let hash = FxBuildHasher.hash_one("interned-often-too-late");
+        let shard = TABLE[(hash >> 60) as usize % SHARDS].lock().unwrap();
+        assert!(
+            !shard.names.contains("interned-often-too-late"),
+            "a name past the budget was kept"
+        );
     }
 
     #[test]
