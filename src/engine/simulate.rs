@@ -115,9 +115,9 @@ impl Reason {
     /// What exactly: the forbidden step or fact, the unknown verb, the object out of reach.
     pub fn detail(&self) -> String {
         match &self.cause {
-            Cause::Soft { what, .. } => what.to_string(),
-            Cause::ForbiddenAction { step, .. } => step.to_string(),
-            Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.to_string(),
+            Cause::Soft { what, .. } => what.text(),
+            Cause::ForbiddenAction { step, .. } => step.text(),
+            Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.text(),
             Cause::UnknownAction { verb } => verb.to_string(),
             Cause::Unreachable { object } | Cause::TooWide { object } | Cause::TooHeavy { object } => {
                 object.to_string()

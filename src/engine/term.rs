@@ -4,11 +4,12 @@
 //! substitutions and matching. Must not: know about worlds, norms or any transport.
 
 use std::borrow::Cow;
-use std::fmt;
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 pub use super::sym::Sym;
+
+mod text;
 
 /// Nesting deeper than this is refused by default, so that no input can exhaust the stack.
 pub const MAX_DEPTH: usize = 32;
@@ -187,31 +188,6 @@ impl Term {
 }
 
 /// Canonical form: no spaces, no types: `did(self,get(object3))`.
-impl fmt::Display for Term {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Term::Const(name) | Term::Var(name) => f.write_str(name),
-            Term::Compound(name, args) => {
-                f.write_str(name)?;
-                f.write_str("(")?;
-                for (i, arg) in args.iter().enumerate() {
-                    if i > 0 {
-                        f.write_str(",")?;
-                    }
-                    write!(f, "{arg}")?;
-                }
-                f.write_str(")")
-            }
-        }
-    }
-}
-
-impl fmt::Debug for Term {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{self}")
-    }
-}
-
 /// Why a text is not a term: the byte offset where reading stopped, and what was expected there.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("at byte {position}: {message}")]
@@ -660,6 +636,14 @@ mod tests {
     }
 
     proptest::proptest! {
+        #[test]
+        fn the_text_of_a_term_is_what_display_writes_and_reads_back(term in arb_term(&["X", "Y"])) {
+            let text = term.text();
+            proptest::prop_assert_eq!(&text, &term.to_string());
+            proptest::prop_assert_eq!(text.len(), text.capacity());
+            proptest::prop_assert_eq!(Term::parse(&text).unwrap(), term);
+        }
+
         /// A term under a substitution hashes, compares and is ground exactly as the term
         /// `substitute` builds from it: the world looks up `when` literals through it.
         #[test]

@@ -81,11 +81,11 @@ impl From<&Check> for CheckDto {
                 .steps
                 .iter()
                 .map(|s| StepCheckDto {
-                    step: s.step.to_string(),
+                    step: s.step.text(),
                     permissible: s.outcome.permissible(),
                     feasible: s.outcome.feasible(),
                     reasons: reason_dtos(&s.outcome.reasons, &s.reason_words),
-                    plan: s.outcome.plan.iter().map(Term::to_string).collect(),
+                    plan: s.outcome.plan.iter().map(Term::text).collect(),
                 })
                 .collect(),
             utterance: check.utterance.clone(),

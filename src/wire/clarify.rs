@@ -397,12 +397,12 @@ fn is_zero(n: &i32) -> bool {
 impl From<&Interpretation> for InterpretationDto {
     fn from(i: &Interpretation) -> Self {
         InterpretationDto {
-            action: i.action.to_string(),
+            action: i.action.text(),
             description: i.description.clone(),
             permissible: i.permissible(),
             feasible: i.feasible(),
             reasons: reason_dtos(&i.outcome.reasons, &i.reason_words),
-            plan: i.outcome.plan.iter().map(Term::to_string).collect(),
+            plan: i.outcome.plan.iter().map(Term::text).collect(),
             score: i.score,
             norm_score: i.norm_score(),
         }
@@ -469,7 +469,7 @@ impl From<&Understood> for ParseDto {
         ParseDto {
             act: u.act.as_str().to_owned(),
             addressee: u.addressee.clone(),
-            form: u.form.as_ref().map(Term::to_string),
+            form: u.form.as_ref().map(Term::text),
             references: (u.references.iter())
                 .map(|r| ReferenceParseDto {
                     words: r.words.clone(),
@@ -507,10 +507,10 @@ impl DecisionDto {
         DecisionDto {
             decision: decision.kind.as_str().to_owned(),
             utterance: decision.utterance.clone(),
-            speech_act: decision.speech_act.to_string(),
-            goal: decision.goal.as_ref().map(Term::to_string),
+            speech_act: decision.speech_act.text(),
+            goal: decision.goal.as_ref().map(Term::text),
             interpretations: decision.interpretations.iter().map(InterpretationDto::from).collect(),
-            offered: decision.offered.iter().map(Term::to_string).collect(),
+            offered: decision.offered.iter().map(Term::text).collect(),
             limits: decision.limits.as_ref().map(LimitsDto::from),
             norm_version: decision.norm_version,
             library_version: decision.library_version,

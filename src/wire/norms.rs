@@ -77,14 +77,14 @@ pub struct NormDto {
 
 impl From<&Norm> for NormDto {
     fn from(norm: &Norm) -> Self {
-        let (action, state) = norm.spec.kind.members(norm.spec.term.to_string());
+        let (action, state) = norm.spec.kind.members(norm.spec.term.text());
         NormDto {
             id: norm.id,
             revision: norm.revision,
             kind: norm.spec.kind.as_str().to_owned(),
             action,
             state,
-            when: norm.spec.when.iter().map(Term::to_string).collect(),
+            when: norm.spec.when.iter().map(Term::text).collect(),
             context: norm.spec.context.clone(),
             severity: norm.spec.severity,
             note: norm.spec.note.clone(),

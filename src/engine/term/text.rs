@@ -1,0 +1,72 @@
+//! The canonical text of a term (`name(arg,...)`, no spaces), which parsing reads back.
+//!
+//! Owns: printing a term, through `Display` and into one allocation of its exact length. Must
+//! not: print anything a parse would read otherwise.
+
+use std::fmt;
+
+use super::Term;
+
+impl Term {
+    /// The canonical text, as `Display` writes it, in one allocation of its exact length: an
+    /// answer carries every reading's action and plan as text, and growing a `String` through
+    /// `to_string` reallocated each a few times.
+    pub fn text(&self) -> String {
+        let mut out = String::with_capacity(self.text_len());
+        self.push_text(&mut out);
+        out
+    }
+
+    /// The length of [`Term::text`] in bytes.
+    fn text_len(&self) -> usize {
+        match self {
+            Term::Const(name) | Term::Var(name) => name.len(),
+            // The name, the parentheses, a comma between arguments.
+            Term::Compound(name, args) => {
+                name.len() + 2 + args.len().saturating_sub(1) + args.iter().map(Term::text_len).sum::<usize>()
+            }
+        }
+    }
+
+    fn push_text(&self, out: &mut String) {
+        match self {
+            Term::Const(name) | Term::Var(name) => out.push_str(name),
+            Term::Compound(name, args) => {
+                out.push_str(name);
+                out.push('(');
+                for (i, arg) in args.iter().enumerate() {
+                    if i > 0 {
+                        out.push(',');
+                    }
+                    arg.push_text(out);
+                }
+                out.push(')');
+            }
+        }
+    }
+}
+
+impl fmt::Display for Term {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Term::Const(name) | Term::Var(name) => f.write_str(name),
+            Term::Compound(name, args) => {
+                f.write_str(name)?;
+                f.write_str("(")?;
+                for (i, arg) in args.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(",")?;
+                    }
+                    fmt::Display::fmt(arg, f)?;
+                }
+                f.write_str(")")
+            }
+        }
+    }
+}
+
+impl fmt::Debug for Term {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{self}")
+    }
+}
