@@ -320,6 +320,31 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
     assert_eq!(status.code(), Code::InvalidArgument);
     assert_eq!(status.metadata().get("field").unwrap(), "/scene");
 
+    // A member of fixed length, or a shape of no kind, in the second object: named as REST
+    // names it (the pointer is made only for the error).
+    let edits: [(fn(&mut pb::Object), &str); 4] = [
+        (|o| o.position.push(1.0), "/scene/objects/1/position"),
+        (|o| o.rotation = vec![0.0, 0.0, 1.0], "/scene/objects/1/rotation"),
+        (|o| o.shape = Some(pb::Shape { kind: None }), "/scene/objects/1/shape"),
+        (
+            |o| {
+                o.shape = Some(pb::Shape {
+                    kind: Some(pb::shape::Kind::Cuboid(pb::Cuboid {
+                        half_extents: vec![0.1],
+                    })),
+                })
+            },
+            "/scene/objects/1/shape/cuboid/half_extents",
+        ),
+    ];
+    for (edit, field) in edits {
+        let mut request = clarify_request(&get_vase());
+        edit(&mut request.scene.as_mut().unwrap().objects[1]);
+        let status = clarifier.clarify(request).await.unwrap_err();
+        assert_eq!(status.code(), Code::InvalidArgument, "{field}");
+        assert_eq!(status.metadata().get("field").unwrap(), field);
+    }
+
     // Not found: 404 / NOT_FOUND.
     assert_problem(app.get("/v1/norms/999").await, StatusCode::NOT_FOUND, None).await;
     let status = norms.get_norm(pb::GetNormRequest { id: 999 }).await.unwrap_err();

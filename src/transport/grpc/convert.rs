@@ -23,9 +23,10 @@ fn missing(field: &str) -> Error {
 }
 
 /// A repeated double that stands for a fixed-length JSON array.
-fn fixed<const N: usize>(field: &str, values: Vec<f64>) -> Result<[f64; N], Error> {
+/// `values` as exactly `N` numbers; `field` names them, and is made only when they are not.
+fn fixed<const N: usize>(field: impl FnOnce() -> String, values: Vec<f64>) -> Result<[f64; N], Error> {
     let count = values.len();
-    <[f64; N]>::try_from(values).map_err(|_| Error::invalid(field, format!("expected {N} numbers, got {count}")))
+    <[f64; N]>::try_from(values).map_err(|_| Error::invalid(field(), format!("expected {N} numbers, got {count}")))
 }
 
 /// One of an option's words, spelled as the engine spells it.
@@ -127,12 +128,12 @@ impl TryFrom<pb::Scene> for SceneBody {
             .objects
             .into_iter()
             .enumerate()
-            .map(|(i, o)| object(&format!("/scene/objects/{i}"), o))
+            .map(|(i, o)| object(i, o))
             .collect::<Result<_, _>>()?;
         Ok(SceneBody {
             agent: AgentBody {
                 id: agent.id,
-                position: fixed("/scene/agent/position", agent.position)?,
+                position: fixed(|| "/scene/agent/position".to_owned(), agent.position)?,
                 reach: agent.reach.ok_or_else(|| missing("/scene/agent/reach"))?,
                 gripper_aperture: agent.gripper_aperture,
                 payload: agent.payload,
@@ -144,19 +145,22 @@ impl TryFrom<pb::Scene> for SceneBody {
     }
 }
 
-fn object(at: &str, o: pb::Object) -> Result<ObjectBody, Error> {
+/// The `i`th object of the scene. Its pointer is made only for an error: a scene of 10,000
+/// objects is converted on every request.
+fn object(i: usize, o: pb::Object) -> Result<ObjectBody, Error> {
+    let at = |member: &str| format!("/scene/objects/{i}/{member}");
     let shape = match o.shape {
         None => None,
         Some(pb::Shape { kind: None }) => {
             return Err(Error::invalid(
-                format!("{at}/shape"),
+                at("shape"),
                 "expected one of `ball`, `cuboid`, `cylinder`",
             ));
         }
         Some(pb::Shape { kind: Some(kind) }) => Some(match kind {
             pb::shape::Kind::Ball(b) => ShapeBody::Ball { radius: b.radius },
             pb::shape::Kind::Cuboid(c) => ShapeBody::Cuboid {
-                half_extents: fixed(&format!("{at}/shape/cuboid/half_extents"), c.half_extents)?,
+                half_extents: fixed(|| at("shape/cuboid/half_extents"), c.half_extents)?,
             },
             pb::shape::Kind::Cylinder(c) => ShapeBody::Cylinder {
                 radius: c.radius,
@@ -167,10 +171,10 @@ fn object(at: &str, o: pb::Object) -> Result<ObjectBody, Error> {
     let rotation = if o.rotation.is_empty() {
         None
     } else {
-        Some(fixed(&format!("{at}/rotation"), o.rotation)?)
+        Some(fixed(|| at("rotation"), o.rotation)?)
     };
     Ok(ObjectBody {
-        position: fixed(&format!("{at}/position"), o.position)?,
+        position: fixed(|| at("position"), o.position)?,
         id: o.id,
         kind: o.r#type,
         properties: o.properties,
