@@ -504,6 +504,11 @@ pub fn spoken_into(name: &str, out: &mut String) {
 
 /// `spoken`, appended to `out`.
 pub fn spoken_onto(name: &str, out: &mut String) {
+    // Most names (`vase`, `object3`) are spoken as written: nothing to split, lower or trim.
+    if name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit()) {
+        out.push_str(name);
+        return;
+    }
     let start = out.len();
     let mut previous: Option<char> = None;
     for c in name.chars() {
@@ -671,6 +676,7 @@ mod tests {
             ("cash_box", "cash box"),
             ("pointTo", "point to"),
             ("mug", "mug"),
+            ("object3", "object3"),
             ("getURL", "get url"),
             ("dark_red", "dark red"),
         ] {

@@ -203,9 +203,12 @@ fn is_name_char(c: char) -> bool {
 
 /// True when `text` is a name that reads back as a constant (not a variable, no punctuation).
 pub fn is_constant_name(text: &str) -> bool {
-    let mut chars = text.chars();
-    match chars.next() {
-        Some(first) if first.is_ascii_lowercase() || first.is_ascii_digit() || first == '_' => chars.all(is_name_char),
+    // Every character allowed is ASCII, so any byte of a longer character fails as it would.
+    let mut bytes = text.bytes();
+    match bytes.next() {
+        Some(first) if first.is_ascii_lowercase() || first.is_ascii_digit() || first == b'_' => {
+            bytes.all(|b| is_name_char(char::from(b)))
+        }
         _ => false,
     }
 }
