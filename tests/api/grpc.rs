@@ -322,7 +322,8 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
 
     // A member of fixed length, or a shape of no kind, in the second object: named as REST
     // names it (the pointer is made only for the error).
-    let edits: [(fn(&mut pb::Object), &str); 4] = [
+    type Edit = fn(&mut pb::Object);
+    let edits: [(Edit, &str); 4] = [
         (|o| o.position.push(1.0), "/scene/objects/1/position"),
         (|o| o.rotation = vec![0.0, 0.0, 1.0], "/scene/objects/1/rotation"),
         (|o| o.shape = Some(pb::Shape { kind: None }), "/scene/objects/1/shape"),
