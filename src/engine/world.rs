@@ -67,6 +67,9 @@ impl KeyBit {
     }
 }
 
+/// How many functors a fact base's index has room for from the start, at most.
+const KEYS_RESERVED: usize = 32;
+
 impl Base {
     pub fn new(facts: impl IntoIterator<Item = Term>) -> Base {
         let facts = facts.into_iter();
@@ -78,6 +81,9 @@ impl Base {
         // Each fact's group (its key's, numbered as keys first appear), and how many each has.
         let mut groups: Vec<u32> = Vec::with_capacity(facts.size_hint().0);
         let mut sizes: Vec<u32> = Vec::new();
+        // A scene has few functors (types, properties, attribute names), however many objects:
+        // room for a small scene's, so that most bases never grow the index.
+        base.index.reserve(facts.size_hint().0.min(KEYS_RESERVED));
         for fact in facts {
             let hash = FxBuildHasher.hash_one(&fact);
             if base.set.find(hash, |&i| base.facts[i as usize] == fact).is_some() {

@@ -17,7 +17,8 @@ impl Scene {
     pub fn all_facts(&self) -> Vec<Term> {
         let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
         // Types, properties and attributes recur across objects: each is interned once here.
-        let mut names: FxHashMap<&str, Sym> = FxHashMap::default();
+        let mut names: FxHashMap<&str, Sym> =
+            FxHashMap::with_capacity_and_hasher(self.objects.len().min(32), Default::default());
         let mut name = |text| names.entry(text).or_insert_with(|| Sym::new(text)).clone();
         for object in &self.objects {
             let id = Term::Const(Sym::new(&object.id));
