@@ -146,10 +146,15 @@ static TABLE: LazyLock<[Mutex<Shard>; SHARDS]> = LazyLock::new(|| {
     })
 });
 
+/// The shard a name of this hash lives in.
+fn shard_of(hash: u64) -> &'static Mutex<Shard> {
+    &TABLE[(hash >> 60) as usize % SHARDS]
+}
+
 impl Sym {
     pub fn new(text: &str) -> Sym {
         let hash = FxBuildHasher.hash_one(text);
-        let shard = &TABLE[(hash >> 60) as usize % SHARDS];
+        let shard = shard_of(hash);
         // A poisoned shard still holds a consistent set: no code that can panic runs under it.
         let mut shard = shard.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         if let Some(entry) = shard.names.get(text) {
@@ -485,15 +490,20 @@ mod tests {
             filler += 1;
         }
         assert!(!interned_often("interned-often-too-late"));
+        assert!(swept_away("interned-often-too-late"), "a name past the budget was kept");
+    }
+
+    /// Whether `text`, which nobody holds, is gone from the table once enough new names have
+    /// come that every shard, lasting names and all, doubles and is swept.
+    fn swept_away(text: &str) -> bool {
         for i in 0..400_000 {
-            drop(Sym::new(&format!("sweeping-the-late-often-one-{i}")));
+            drop(Sym::new(&format!("sweeping-{text}-{i}")));
         }
-        let hash = FxBuildHasher.hash_one("interned-often-too-late");
-        let shard = TABLE[(hash >> 60) as usize % SHARDS].lock().unwrap();
-        assert!(
-            !shard.names.contains("interned-often-too-late"),
-            "a name past the budget was kept"
-        );
+        !shard_of(FxBuildHasher.hash_one(text))
+            .lock()
+            .unwrap()
+            .names
+            .contains(text)
     }
 
     #[test]
@@ -508,15 +518,6 @@ mod tests {
         late.make_lasting();
         assert!(!late.name().lasting.load(Ordering::Relaxed));
         drop(late);
-        // Enough new names that every shard, lasting fillers and all, doubles and is swept.
-        for i in 0..400_000 {
-            drop(Sym::new(&format!("sweeping-the-late-one-{i}")));
-        }
-        let hash = FxBuildHasher.hash_one("made-lasting-too-late");
-        let shard = TABLE[(hash >> 60) as usize % SHARDS].lock().unwrap();
-        assert!(
-            !shard.names.contains("made-lasting-too-late"),
-            "a name past the bound was kept"
-        );
+        assert!(swept_away("made-lasting-too-late"), "a name past the bound was kept");
     }
 }
