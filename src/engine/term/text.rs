@@ -13,7 +13,8 @@ impl Term {
     /// `to_string` reallocated each a few times.
     pub fn text(&self) -> String {
         let mut out = String::with_capacity(self.text_len());
-        self.push_text(&mut out);
+        // Writing to a String never fails.
+        let _ = self.write_to(&mut out);
         out
     }
 
@@ -28,19 +29,21 @@ impl Term {
         }
     }
 
-    fn push_text(&self, out: &mut String) {
+    /// Writes the canonical text to `out`: `Display` writes it to a formatter, `text` to a
+    /// `String` of the right size, so the two cannot differ.
+    fn write_to<W: fmt::Write>(&self, out: &mut W) -> fmt::Result {
         match self {
-            Term::Const(name) | Term::Var(name) => out.push_str(name),
+            Term::Const(name) | Term::Var(name) => out.write_str(name),
             Term::Compound(name, args) => {
-                out.push_str(name);
-                out.push('(');
+                out.write_str(name)?;
+                out.write_char('(')?;
                 for (i, arg) in args.iter().enumerate() {
                     if i > 0 {
-                        out.push(',');
+                        out.write_char(',')?;
                     }
-                    arg.push_text(out);
+                    arg.write_to(out)?;
                 }
-                out.push(')');
+                out.write_char(')')
             }
         }
     }
@@ -48,20 +51,7 @@ impl Term {
 
 impl fmt::Display for Term {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Term::Const(name) | Term::Var(name) => f.write_str(name),
-            Term::Compound(name, args) => {
-                f.write_str(name)?;
-                f.write_str("(")?;
-                for (i, arg) in args.iter().enumerate() {
-                    if i > 0 {
-                        f.write_str(",")?;
-                    }
-                    fmt::Display::fmt(arg, f)?;
-                }
-                f.write_str(")")
-            }
-        }
+        self.write_to(f)
     }
 }
 
