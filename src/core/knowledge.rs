@@ -204,8 +204,9 @@ impl Core {
     }
 
     /// The knowledge without a read, when it may be had so: fixed, or under a lease that holds
-    /// now. The database file is checked on every call (one `stat`), so that a file deleted or
-    /// replaced fails closed on the very next request, lease or not.
+    /// now. The database file is checked on every call (a `poll` of the watch on its path, a
+    /// `stat` after a change), so that a file deleted or replaced fails closed on the very next
+    /// request, lease or not.
     fn leased(&self, metrics: Option<&Metrics>) -> Result<Option<Hit>, Error> {
         let store = match &self.source {
             Source::Fixed(knowledge) => {

@@ -12,6 +12,7 @@ macro_rules! norm_columns {
     };
 }
 
+mod identity;
 mod postgres;
 mod sql;
 mod sqlite;
@@ -171,7 +172,7 @@ pub struct AuditEntry {
 #[async_trait]
 pub trait NormStore: Send + Sync + 'static {
     /// Whether the store is still the one opened (for SQLite, that the path still names the
-    /// file opened): a `stat` at most, no query, so it can be asked on every request.
+    /// file opened): a `poll` or a `stat`, no query, so it can be asked on every request.
     fn still_there(&self) -> Result<(), StoreError>;
     /// The current norm-set and action-set versions: one cheap read, made whenever a lease on
     /// them has run out.

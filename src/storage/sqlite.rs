@@ -4,14 +4,15 @@
 //! Must not: write outside a transaction, or keep serving from a database file that has been
 //! deleted or replaced under it.
 
-use std::path::{Path, PathBuf};
 use std::str::FromStr;
+use std::sync::Arc;
 use std::time::Duration;
 
 use async_trait::async_trait;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{Sqlite, Transaction};
 
+use super::identity::FileIdentity;
 use super::sql::{ACTIONS_SQL, AuditRow, Backend, Change, NormColumns, NormRow, Set, SqlStore, Tx, action_from_row};
 use super::{AuditEntry, StoreError, StoredAction, Versions};
 use crate::engine::norms::{Norm, NormSpec};
@@ -22,17 +23,10 @@ pub type SqliteStore = SqlStore<SqliteBackend>;
 #[derive(Clone, Debug)]
 pub struct SqliteBackend {
     pool: SqlitePool,
-    /// The database file as opened and its (device, inode); `None` in memory. Open connections
-    /// keep reading a file deleted or replaced under them, and writes to it would vanish, so
-    /// every request checks that the path still names this file (one `stat`) and fails closed
-    /// when it does not.
-    file: Option<(PathBuf, (u64, u64))>,
-}
-
-fn identity(path: &Path) -> std::io::Result<(u64, u64)> {
-    use std::os::unix::fs::MetadataExt;
-    let metadata = std::fs::metadata(path)?;
-    Ok((metadata.dev(), metadata.ino()))
+    /// The database file as opened; `None` in memory. Open connections keep reading a file
+    /// deleted or replaced under them, and writes to it would vanish, so every request checks
+    /// that the path still names this file and fails closed when it does not.
+    file: Option<Arc<FileIdentity>>,
 }
 
 impl SqliteStore {
@@ -60,8 +54,8 @@ impl SqliteStore {
         let file = if in_memory {
             None
         } else {
-            let id = identity(path).map_err(|e| StoreError::new(format!("{}: {e}", path.display())))?;
-            Some((path.to_owned(), id))
+            let file = FileIdentity::of(path).map_err(|e| StoreError::new(format!("{}: {e}", path.display())))?;
+            Some(Arc::new(file))
         };
         Ok(SqlStore {
             backend: SqliteBackend { pool, file },
@@ -192,21 +186,25 @@ impl Tx for SqliteTx {
     }
 }
 
+impl SqliteBackend {
+    /// The file checked with a `stat` of its path, as writes and each lease's read are: they
+    /// also see a change no event reports (a file system mounted over a directory of the path).
+    fn stat(&self) -> Result<(), StoreError> {
+        match &self.file {
+            Some(file) => file.stat(),
+            None => Ok(()),
+        }
+    }
+}
+
 #[async_trait]
 impl Backend for SqliteBackend {
     type Tx = SqliteTx;
 
     fn still_there(&self) -> Result<(), StoreError> {
-        let Some((path, opened)) = &self.file else {
-            return Ok(());
-        };
-        match identity(path) {
-            Ok(now) if now == *opened => Ok(()),
-            Ok(_) => Err(StoreError::new(format!(
-                "{} was replaced by another file",
-                path.display()
-            ))),
-            Err(e) => Err(StoreError::new(format!("{} is gone: {e}", path.display()))),
+        match &self.file {
+            Some(file) => file.check(),
+            None => Ok(()),
         }
     }
 
@@ -217,11 +215,12 @@ impl Backend for SqliteBackend {
     /// `BEGIN IMMEDIATE`: takes the write lock up front, so concurrent writers queue on the busy
     /// timeout instead of failing to upgrade a read lock.
     async fn write(&self) -> Result<SqliteTx, StoreError> {
-        self.still_there()?;
+        self.stat()?;
         Ok(SqliteTx(self.pool.begin_with("BEGIN IMMEDIATE").await?))
     }
 
     async fn versions(&self) -> Result<Versions, StoreError> {
+        self.stat()?;
         let (norms, actions): (i64, i64) = sqlx::query_as(
             "SELECT (SELECT version FROM norm_set WHERE id = 1), (SELECT version FROM action_set WHERE id = 1)",
         )

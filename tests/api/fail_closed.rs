@@ -168,6 +168,37 @@ async fn a_database_file_replaced_under_the_service_fails_closed() {
     assert!(problem["detail"].as_str().unwrap().contains("replaced"), "{problem}");
 }
 
+/// The directory the file is in swapped for one holding a copy (a restore by directory) fails
+/// closed on the next request; a file made beside the database changes nothing; and once the
+/// original directory is back, decisions go on under the file opened.
+#[tokio::test]
+async fn a_database_directory_swapped_under_the_service_fails_closed_and_one_put_back_is_served() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    std::fs::write(app.dir.path().join("notes.txt"), b"beside the database").unwrap();
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+
+    let live = app.dir.path().to_owned();
+    let (staged, away) = (live.with_extension("staged"), live.with_extension("away"));
+    std::fs::create_dir(&staged).unwrap();
+    std::fs::copy(&app.db_path, staged.join("scruple.db")).unwrap();
+    std::fs::rename(&live, &away).unwrap();
+    std::fs::rename(&staged, &live).unwrap();
+    let problem = assert_problem(
+        app.post("/v1/clarify", &get_vase()).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert!(problem["detail"].as_str().unwrap().contains("replaced"), "{problem}");
+
+    std::fs::rename(&live, &staged).unwrap();
+    std::fs::rename(&away, &live).unwrap();
+    std::fs::remove_dir_all(&staged).unwrap();
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+}
+
 /// In WAL mode another process's write lock never blocks reading the committed norms, so
 /// decisions go on under them (the norms in force are known); a write waits out the busy timeout
 /// and is refused with 503, writing nothing.
