@@ -96,6 +96,20 @@ mod watch {
         | libc::IN_MOVE_SELF
         | libc::IN_DELETE_SELF
         | libc::IN_ONLYDIR;
+    /// File systems whose every change is made by this kernel, and so reported to its watches,
+    /// by `statfs` magic number. On any other (NFS, SMB, FUSE, ...) another host may change the
+    /// path unseen, so the path is stat'ed per request.
+    const LOCAL: [u64; 9] = [
+        0xEF53,      // ext2, ext3, ext4
+        0x5846_5342, // XFS
+        0x9123_683E, // Btrfs
+        0x0102_1994, // tmpfs
+        0x794C_7630, // overlayfs
+        0x2FC1_2FC1, // ZFS
+        0xF2F5_2010, // F2FS
+        0x8584_58F6, // ramfs
+        0xCA45_1A4E, // bcachefs
+    ];
     /// Past this many watches (each path's directories, again after each change that replaced
     /// one), the path is stat'ed per request instead.
     const MAX_WATCHES: usize = 256;
@@ -260,10 +274,22 @@ mod watch {
         }
 
         fn add(&self, state: &mut State, path: &Path) -> Option<i32> {
-            let path = CString::new(path.as_os_str().as_bytes()).ok()?;
+            let text = CString::new(path.as_os_str().as_bytes()).ok()?;
             // SAFETY: a NUL-terminated path; the result is checked.
-            let wd = unsafe { libc::inotify_add_watch(self.queue.as_raw_fd(), path.as_ptr(), DIRECTORY) };
+            let wd = unsafe { libc::inotify_add_watch(self.queue.as_raw_fd(), text.as_ptr(), DIRECTORY) };
             if wd >= 0 {
+                // SAFETY: a NUL-terminated path and a struct the call fills; checked.
+                let mut fs: libc::statfs = unsafe { std::mem::zeroed() };
+                let kind = match unsafe { libc::statfs(text.as_ptr(), &mut fs) } {
+                    0 => fs.f_type as u64 & 0xFFFF_FFFF,
+                    _ => 0,
+                };
+                if !LOCAL.contains(&kind) {
+                    state.blind(&format_args!(
+                        "{} is on a file system ({kind:#x}) whose changes may not be reported here",
+                        path.display()
+                    ));
+                }
                 return Some(wd);
             }
             let error = std::io::Error::last_os_error();
@@ -278,7 +304,7 @@ mod watch {
     impl State {
         fn blind(&mut self, why: &dyn std::fmt::Display) {
             if !self.blind {
-                tracing::warn!(error = %why, "the database path is stat'ed per request from now on");
+                tracing::info!(reason = %why, "the database path is stat'ed per request from now on");
             }
             self.blind = true;
         }
@@ -415,6 +441,14 @@ mod tests {
         fs::rename(&moved, &live).unwrap();
         assert_eq!(agrees(&file), Ok(()));
         assert!(file.watched());
+    }
+
+    #[test]
+    fn a_path_on_a_file_system_not_known_to_report_every_change_is_stated_per_request() {
+        // procfs: the kernel writes it, no watch reports it.
+        let file = FileIdentity::of(Path::new("/proc/version")).unwrap();
+        assert!(!file.watched());
+        assert_eq!(agrees(&file), Ok(()));
     }
 
     /// A change to the tree a path goes through.
