@@ -5,9 +5,10 @@
 //!
 //! Must not: answer "the same file" to a request that starts after the file was deleted or
 //! replaced. The kernel queues a change's event before the call that made it returns, so a
-//! later request finds the event queued, or a check under way (see `Watch::check`). The one
-//! change no event reports, a file system mounted over a directory of the path, is seen by the
-//! `stat` that writes and each lease's read of the versions make.
+//! later request finds the event queued, or a check under way (see `Watch::check`). What no
+//! watched event reports (a file system mounted over a directory of the path; a link in a third
+//! directory that a link on the path leads through, turned) is seen by the `stat` that writes
+//! and each lease's read of the versions make, within one lease.
 
 use std::path::{Path, PathBuf};
 
