@@ -361,6 +361,14 @@ mod tests {
         fs::rename(&staged, to).unwrap();
     }
 
+    /// Renames `from` to `to` and back: gone in between, the same file again after.
+    fn away_and_back(file: &FileIdentity, from: &Path, to: &Path) {
+        fs::rename(from, to).unwrap();
+        assert!(agrees(file).unwrap_err().contains("is gone"));
+        fs::rename(to, from).unwrap();
+        assert_eq!(agrees(file), Ok(()));
+    }
+
     #[test]
     fn each_way_of_deleting_or_replacing_the_file_is_seen_by_the_next_check() {
         let dir = tempfile::tempdir().unwrap();
@@ -370,12 +378,8 @@ mod tests {
         assert!(file.watched(), "inotify is available to tests on Linux");
         assert_eq!(agrees(&file), Ok(()));
 
-        // Renamed away: gone; renamed back: the same file again.
         let away = dir.path().join("away.db");
-        fs::rename(&db, &away).unwrap();
-        assert!(agrees(&file).unwrap_err().contains("is gone"));
-        fs::rename(&away, &db).unwrap();
-        assert_eq!(agrees(&file), Ok(()));
+        away_and_back(&file, &db, &away);
 
         // Changes that leave the path naming the file: written, its mode changed, a file made
         // and removed beside it.
@@ -436,11 +440,7 @@ mod tests {
         assert_eq!(agrees(&file), Ok(()));
 
         // The directory above the link's target renamed away and back.
-        let moved = root.path().join("moved");
-        fs::rename(&live, &moved).unwrap();
-        assert!(agrees(&file).unwrap_err().contains("is gone"));
-        fs::rename(&moved, &live).unwrap();
-        assert_eq!(agrees(&file), Ok(()));
+        away_and_back(&file, &live, &root.path().join("moved"));
         assert!(file.watched());
     }
 

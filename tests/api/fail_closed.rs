@@ -23,6 +23,17 @@ async fn tamper(app: &crate::helpers::TestApp, sql: &str) {
     crate::helpers::after_the_lease().await;
 }
 
+/// The next clarify answers 503, and its detail says how the file is not the one opened.
+async fn clarify_fails_closed(app: &crate::helpers::TestApp, how: &str) {
+    let problem = assert_problem(
+        app.post("/v1/clarify", &get_vase()).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    assert!(problem["detail"].as_str().unwrap().contains(how), "{problem}");
+}
+
 #[tokio::test]
 async fn a_missing_norm_table_fails_closed() {
     let app = spawn_app().await;
@@ -133,13 +144,7 @@ async fn a_database_file_deleted_under_the_service_fails_closed_instead_of_writi
         path.push(suffix);
         let _ = std::fs::remove_file(path);
     }
-    let problem = assert_problem(
-        app.post("/v1/clarify", &get_vase()).await,
-        StatusCode::SERVICE_UNAVAILABLE,
-        None,
-    )
-    .await;
-    assert!(problem["detail"].as_str().unwrap().contains("is gone"), "{problem}");
+    clarify_fails_closed(&app, "is gone").await;
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
     assert_problem(
         app.post("/v1/norms", &norm).await,
@@ -159,13 +164,7 @@ async fn a_database_file_replaced_under_the_service_fails_closed() {
     let copy = app.dir.path().join("copy.db");
     std::fs::copy(&app.db_path, &copy).unwrap();
     std::fs::rename(&copy, &app.db_path).unwrap();
-    let problem = assert_problem(
-        app.post("/v1/clarify", &get_vase()).await,
-        StatusCode::SERVICE_UNAVAILABLE,
-        None,
-    )
-    .await;
-    assert!(problem["detail"].as_str().unwrap().contains("replaced"), "{problem}");
+    clarify_fails_closed(&app, "replaced").await;
 }
 
 /// The directory the file is in swapped for one holding a copy (a restore by directory) fails
@@ -185,13 +184,7 @@ async fn a_database_directory_swapped_under_the_service_fails_closed_and_one_put
     std::fs::copy(&app.db_path, staged.join("scruple.db")).unwrap();
     std::fs::rename(&live, &away).unwrap();
     std::fs::rename(&staged, &live).unwrap();
-    let problem = assert_problem(
-        app.post("/v1/clarify", &get_vase()).await,
-        StatusCode::SERVICE_UNAVAILABLE,
-        None,
-    )
-    .await;
-    assert!(problem["detail"].as_str().unwrap().contains("replaced"), "{problem}");
+    clarify_fails_closed(&app, "replaced").await;
 
     std::fs::rename(&live, &staged).unwrap();
     std::fs::rename(&away, &live).unwrap();
