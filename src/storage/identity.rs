@@ -452,6 +452,82 @@ mod tests {
         assert_eq!(agrees(&file), Ok(()));
     }
 
+    #[test]
+    fn a_deletion_whose_event_the_full_queue_dropped_is_seen_by_the_next_check() {
+        let dir = tempfile::tempdir().unwrap();
+        let db = dir.path().join("scruple.db");
+        fs::write(&db, b"norms").unwrap();
+        let file = FileIdentity::of(&db).unwrap();
+        assert_eq!(agrees(&file), Ok(()));
+        // Churn beside the file, with no check in between, until the kernel's queue is full
+        // (`max_queued_events`, 16,384 by default) and drops what comes next.
+        let limit: usize = fs::read_to_string("/proc/sys/fs/inotify/max_queued_events")
+            .ok()
+            .and_then(|text| text.trim().parse().ok())
+            .unwrap_or(16_384);
+        let churn = dir.path().join("churn");
+        for _ in 0..limit / 2 + 1 {
+            fs::write(&churn, b"").unwrap();
+            fs::remove_file(&churn).unwrap();
+        }
+        // Its own event lost: only the overflow is queued.
+        fs::rename(&db, dir.path().join("away.db")).unwrap();
+        assert!(agrees(&file).unwrap_err().contains("is gone"));
+        fs::rename(dir.path().join("away.db"), &db).unwrap();
+        assert_eq!(agrees(&file), Ok(()));
+        assert!(file.watched(), "a lost event costs one stat, not the watch");
+    }
+
+    #[test]
+    fn a_path_deeper_than_the_watches_allowed_is_stated_per_request() {
+        let root = tempfile::tempdir().unwrap();
+        let mut deep = root.path().to_path_buf();
+        for _ in 0..300 {
+            deep.push("d");
+        }
+        fs::create_dir_all(&deep).unwrap();
+        let db = deep.join("scruple.db");
+        fs::write(&db, b"norms").unwrap();
+        let file = FileIdentity::of(&db).unwrap();
+        assert!(!file.watched());
+        assert_eq!(agrees(&file), Ok(()));
+        away_and_back(&file, &db, &deep.join("away.db"));
+    }
+
+    #[test]
+    fn odd_directory_names_on_the_path_are_watched_like_any_other() {
+        use std::ffi::OsStr;
+        use std::os::unix::ffi::OsStrExt;
+        let root = tempfile::tempdir().unwrap();
+        // Not UTF-8, a line break, spaces and a leading dash, letters outside ASCII, and a
+        // `..` the kernel resolves.
+        let odd = root
+            .path()
+            .join(OsStr::from_bytes(b"not-\xff-utf8"))
+            .join("two\nlines")
+            .join(" -spaced ")
+            .join("données");
+        fs::create_dir_all(odd.join("sub")).unwrap();
+        fs::write(odd.join("scruple.db"), b"norms").unwrap();
+        let file = FileIdentity::of(&odd.join("sub/../scruple.db")).unwrap();
+        assert!(file.watched());
+        assert_eq!(agrees(&file), Ok(()));
+        away_and_back(&file, &odd.join("scruple.db"), &root.path().join("away.db"));
+        // The directory `..` leaves renamed: the path no longer resolves.
+        away_and_back(&file, &odd.join("sub"), &odd.join("elsewhere"));
+        // The odd directory itself swapped for a copy.
+        let copy = root.path().join("copy");
+        fs::create_dir_all(copy.join("sub")).unwrap();
+        fs::write(copy.join("scruple.db"), b"a copy").unwrap();
+        fs::rename(&odd, root.path().join("kept")).unwrap();
+        fs::rename(&copy, &odd).unwrap();
+        assert!(agrees(&file).unwrap_err().contains("replaced"));
+        fs::rename(&odd, &copy).unwrap();
+        fs::rename(root.path().join("kept"), &odd).unwrap();
+        assert_eq!(agrees(&file), Ok(()));
+        assert!(file.watched());
+    }
+
     /// A change to the tree a path goes through.
     #[derive(Clone, Debug)]
     enum Change {
