@@ -170,7 +170,9 @@ impl Application {
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
 /// Layers, outermost first: observing (a request id, the caller's `x-request-id` or a fresh
 /// UUID, set and echoed on the response; the span carrying it; metrics), then admission. A
-/// refused request is still traced and counted.
+/// refused request is still traced and counted. They are applied in one `layer` call: axum
+/// wraps every route once per call, in a boxed service each request clones (an allocation per
+/// level below it too) and a boxed future, so each call costs every request a few allocations.
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
@@ -187,6 +189,9 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
-        .layer(admission::AdmitLayer(admission))
-        .layer(observe::ObserveLayer::new(observer)))
+        .layer(
+            tower::ServiceBuilder::new()
+                .layer(observe::ObserveLayer::new(observer))
+                .layer(admission::AdmitLayer(admission)),
+        ))
 }

@@ -59,12 +59,14 @@ pub fn openapi() -> utoipa::openapi::OpenApi {
 pub fn router(state: AppState) -> Router {
     let limit = state.max_body_bytes;
     let (router, _) = routes().split_for_parts();
-    router
-        .layer(DefaultBodyLimit::max(limit))
+    // One `layer` call, so one level: each level is a boxed service that every request clones
+    // and a boxed future (see `app::one_port`). The panic guard is the outer of the two.
+    let layers = tower::ServiceBuilder::new()
         .layer(CatchPanicLayer::custom(|_: Box<dyn std::any::Any + Send>| {
             Error::Internal("a handler panicked".to_owned()).into_response()
         }))
-        .with_state(state)
+        .layer(DefaultBodyLimit::max(limit));
+    router.layer(layers).with_state(state)
 }
 
 impl IntoResponse for Error {
