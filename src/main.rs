@@ -24,7 +24,9 @@ use scruple::transport::conn::{
     ConnConfig, DEFAULT_BODY_TIMEOUT_MS, DEFAULT_DRAIN_TIMEOUT_MS, DEFAULT_HEADER_TIMEOUT_MS, DEFAULT_IDLE_TIMEOUT_MS,
     DEFAULT_MAX_CONNECTIONS,
 };
+use scruple::transport::logs::Deferred;
 use scruple::transport::tls::TlsFiles;
+use tracing_subscriber::fmt::format::{DefaultFields, JsonFields};
 use tracing_subscriber::layer::{Context, Layered, SubscriberExt};
 use tracing_subscriber::util::SubscriberInitExt;
 use tracing_subscriber::{EnvFilter, Layer, Registry};
@@ -321,9 +323,16 @@ fn init_logs(format: LogFormat, level: &str) {
         // and each request's span is not dressed in escapes no one will see.
         .with_ansi(std::io::stderr().is_terminal())
         .with_writer(std::io::stderr);
+    // Each request's span fields are formatted only if a line is written inside it (at a
+    // terminal, their names are then not in italics: the text is the same).
+    let defer = scruple::transport::observe::deferred;
     let logs: Box<dyn Layer<Layered<Box<dyn Layer<Registry> + Send + Sync>, Registry>> + Send + Sync> = match format {
-        LogFormat::Text => Box::new(logs),
-        LogFormat::Json => Box::new(logs.json().with_current_span(true).with_span_list(false)),
+        LogFormat::Text => Box::new(Deferred::new(logs, DefaultFields::new(), defer)),
+        LogFormat::Json => Box::new(Deferred::new(
+            logs.json().with_current_span(true).with_span_list(false),
+            JsonFields::new(),
+            defer,
+        )),
     };
     tracing_subscriber::registry().with(filter).with(logs).init();
 }

@@ -7,6 +7,7 @@ pub mod admission;
 pub mod auth;
 pub mod conn;
 pub mod grpc;
+pub mod logs;
 pub mod observe;
 pub mod rest;
 pub mod tls;

@@ -236,9 +236,8 @@ impl<F: Future<Output = Result<Response, Infallible>>> Future for Observed<F> {
             Status::Http(response.status().as_u16())
         };
         let seconds = asked.started.elapsed().as_secs_f64();
-        this.answer
-            .span()
-            .in_scope(|| tracing::debug!(status = %status, seconds, "answered"));
+        // The span as the event's parent, not entered: nothing is done when debug is off.
+        tracing::debug!(parent: this.answer.span(), status = %status, seconds, "answered");
         let metrics = &asked.observer.metrics;
         metrics
             .latency
@@ -323,10 +322,22 @@ impl Default for RequestIds {
     }
 }
 
-/// The span of one request: method, path and request id, nothing from the body.
+/// The span of one request: method, path and request id, nothing from the body. Given as text,
+/// so that a log that defers them ([`crate::transport::logs`], see [`deferred`]) copies them
+/// and formats them (as Display) only when a line is written inside the span.
 fn span(request: &Request, id: &HeaderValue) -> tracing::Span {
     let id = id.to_str().unwrap_or_default();
-    tracing::info_span!("request", method = %request.method(), path = %request.uri().path(), request_id = %id)
+    tracing::info_span!(
+        "request",
+        method = request.method().as_str(),
+        path = request.uri().path(),
+        request_id = id
+    )
+}
+
+/// Whether `metadata` is the request span's, whose fields a log may defer.
+pub fn deferred(metadata: &tracing::Metadata<'_>) -> bool {
+    metadata.name() == "request" && metadata.target() == module_path!()
 }
 
 #[cfg(test)]
