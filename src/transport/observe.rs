@@ -16,15 +16,19 @@ use std::task::{Context, Poll};
 use std::time::Instant;
 
 use axum::extract::{MatchedPath, Request};
-use axum::http::{HeaderValue, Method};
+use axum::http::{HeaderName, HeaderValue, Method};
 use axum::response::Response;
 use prost::Message;
 use tracing::Instrument;
 
 use crate::metrics::{Metrics, RequestLabels, RouteLabels, Status};
 
-/// The header a request id travels in, both ways.
-pub const REQUEST_ID: &str = "x-request-id";
+/// The header a request id travels in, both ways. A `HeaderName`, not text: looking a header up
+/// by text parses the name first, on every request.
+pub const REQUEST_ID: HeaderName = HeaderName::from_static("x-request-id");
+
+/// Where a failed gRPC call's code is, in the answer's head.
+const GRPC_STATUS: HeaderName = HeaderName::from_static("grpc-status");
 
 /// What the observing layer needs: the metrics, and the gRPC methods that exist (a gRPC path is
 /// a label only when it names one of them, whatever the answer).
@@ -179,7 +183,7 @@ where
 
     fn call(&mut self, mut request: Request) -> Observed<S::Future> {
         let started = Instant::now();
-        let id = match request.headers().get(REQUEST_ID) {
+        let id = match request.headers().get(&REQUEST_ID) {
             Some(id) => id.clone(),
             None => {
                 let id = self.layer.ids.next();
@@ -229,7 +233,7 @@ impl<F: Future<Output = Result<Response, Infallible>>> Future for Observed<F> {
             Status::Grpc(
                 response
                     .headers()
-                    .get("grpc-status")
+                    .get(&GRPC_STATUS)
                     .map_or("0", |v| grpc_status_label(v.as_bytes())),
             )
         } else {
@@ -254,8 +258,12 @@ impl<F: Future<Output = Result<Response, Infallible>>> Future for Observed<F> {
                 status,
             })
             .inc();
-        if !response.headers().contains_key(REQUEST_ID) {
-            response.headers_mut().insert(REQUEST_ID, asked.id);
+        if !response.headers().contains_key(&REQUEST_ID) {
+            // Never indexed by HTTP/2's header compression: each id is sent once, and adding it
+            // to the connection's table costs work and pushes out the headers that do repeat.
+            let mut id = asked.id;
+            id.set_sensitive(true);
+            response.headers_mut().insert(REQUEST_ID, id);
         }
         Poll::Ready(Ok(response))
     }
