@@ -1,14 +1,16 @@
 //! Interned symbols: the names of constants, variables and functors, one allocation per text.
 //!
 //! Owns: the process-wide table of names, its bound, and which names last (the vocabulary of
-//! verbs and norms, and the names requests use most; each set bounded). Must not: keep a name
+//! verbs and norms, and the names requests use most; each set bounded), which each thread also
+//! finds without the table. Must not: keep a name
 //! nobody holds past the next sweep unless it lasts (names come from requests), or order
 //! anything by address (order is by text).
 
 use std::borrow::Borrow;
-use std::collections::HashSet;
+use std::cell::RefCell;
+use std::collections::{HashMap, HashSet};
 use std::fmt;
-use std::hash::{BuildHasher, Hash, Hasher};
+use std::hash::{BuildHasher, BuildHasherDefault, Hash, Hasher};
 use std::ops::Deref;
 use std::ptr::NonNull;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
@@ -146,6 +148,62 @@ static TABLE: LazyLock<[Mutex<Shard>; SHARDS]> = LazyLock::new(|| {
     })
 });
 
+/// Lasting names this thread has met, by hash: found without taking a shard's lock (which the
+/// cores took in turn, a dozen times a request). A lasting name is never freed, so a thread
+/// may keep its address for ever; at most [`NEAR_MOST`] a thread, so that the blocking pool's
+/// many threads cannot hold much.
+const NEAR_MOST: usize = 4096;
+
+thread_local! {
+    static NEAR: RefCell<HashMap<u64, NonNull<Name>, BuildHasherDefault<HashIs>>> = RefCell::default();
+}
+
+/// A hasher for keys that are already FxHashes.
+#[derive(Default)]
+struct HashIs(u64);
+
+impl Hasher for HashIs {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        // Only `write_u64` is used, for the `u64` keys; any other input still hashes.
+        for &byte in bytes {
+            self.0 = self.0.rotate_left(8) ^ u64::from(byte);
+        }
+    }
+
+    fn write_u64(&mut self, hash: u64) {
+        self.0 = hash;
+    }
+}
+
+/// The lasting name of `text` (whose FxHash is `hash`), if this thread has met it.
+fn near(hash: u64, text: &str) -> Option<NonNull<Name>> {
+    let found = NEAR.try_with(|near| near.borrow().get(&hash).copied()).ok()??;
+    // SAFETY: only lasting names are kept, and those are never freed.
+    (unsafe { found.as_ref() }.text.as_ref() == text).then_some(found)
+}
+
+/// Keeps `name` near for this thread if it lasts (and there is room, and no other name of its
+/// hash is kept).
+fn keep_near(name: NonNull<Name>) {
+    // SAFETY: the caller holds the name.
+    let n = unsafe { name.as_ref() };
+    // Acquire, as the sweep reads it: once set it stays, and the name is never freed.
+    if !n.lasting.load(Ordering::Acquire) {
+        return;
+    }
+    // A thread being torn down keeps nothing.
+    let _ = NEAR.try_with(|near| {
+        let mut near = near.borrow_mut();
+        if near.len() < NEAR_MOST {
+            near.entry(n.hash).or_insert(name);
+        }
+    });
+}
+
 /// The shard a name of this hash lives in.
 fn shard_of(hash: u64) -> &'static Mutex<Shard> {
     &TABLE[(hash >> 60) as usize % SHARDS]
@@ -154,11 +212,16 @@ fn shard_of(hash: u64) -> &'static Mutex<Shard> {
 impl Sym {
     pub fn new(text: &str) -> Sym {
         let hash = FxBuildHasher.hash_one(text);
+        if let Some(name) = near(hash, text) {
+            // Lasting: not counted.
+            return Sym(name);
+        }
         let shard = shard_of(hash);
         // A poisoned shard still holds a consistent set: no code that can panic runs under it.
         let mut shard = shard.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         if let Some(entry) = shard.names.get(text) {
             entry.name().interned_again();
+            keep_near(entry.0);
             return Sym::held(entry.0);
         }
         if shard.names.len() >= (2 * shard.kept).max(FLOOR) {
@@ -408,6 +471,30 @@ mod tests {
         );
         let again = Sym::new("held-across-sweeps");
         assert_eq!(held.0, again.0);
+    }
+
+    #[test]
+    fn a_thread_finds_the_lasting_names_it_met_and_only_those() {
+        let verb = Sym::new("a-verb-found-near");
+        let hash = FxBuildHasher.hash_one("a-verb-found-near");
+        assert_eq!(near(hash, "a-verb-found-near"), None, "not lasting yet");
+        drop(Sym::new("a-verb-found-near"));
+        assert_eq!(
+            near(hash, "a-verb-found-near"),
+            None,
+            "a counted name is never kept near"
+        );
+        verb.make_lasting();
+        let met = Sym::new("a-verb-found-near");
+        assert_eq!(near(hash, "a-verb-found-near"), Some(verb.0));
+        let again = Sym::new("a-verb-found-near");
+        assert_eq!((met.0, again.0), (verb.0, verb.0));
+        // Another text of the same hash is not that name.
+        assert_eq!(near(hash, "another text"), None);
+        // Another thread has not met it.
+        std::thread::spawn(move || assert_eq!(near(hash, "a-verb-found-near"), None))
+            .join()
+            .unwrap();
     }
 
     #[test]
