@@ -147,6 +147,52 @@ async fn json_logs_carry_the_request_id_and_keep_words_and_speakers_out() {
     );
 }
 
+/// Plain-text logs filtered on the request span's fields: every line of the requests the filter
+/// picks (the answer's included), none of the others, with the span's fields as before.
+#[tokio::test]
+async fn a_log_filter_on_the_request_spans_fields_picks_those_requests_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.txt");
+    let served = serve_binary(
+        &format!("sqlite://{}", dir.path().join("db").display()),
+        &[],
+        &[("RUST_LOG", "warn,[request{path=/v1/check}]=debug")],
+        std::fs::File::create(&log).unwrap().into(),
+    );
+    let client = crate::helpers::http_client();
+    let clarified = client
+        .post(format!("http://{}/v1/clarify", served.addr))
+        .json(&get_vase())
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(clarified.status(), StatusCode::OK);
+    let checked = client
+        .post(format!("http://{}/v1/check", served.addr))
+        .json(&json!({}))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(checked.status(), StatusCode::UNPROCESSABLE_ENTITY);
+    let id = checked.headers()["x-request-id"].to_str().unwrap().to_owned();
+    served.terminate();
+    let text = std::fs::read_to_string(&log).unwrap();
+    let span = format!("request{{method=POST path=/v1/check request_id={id}}}: ");
+    let of_check: Vec<&str> = text.lines().filter(|l| l.contains(&span)).collect();
+    assert!(
+        of_check.iter().any(|l| l.contains("request rejected")),
+        "no rejection line in {text}"
+    );
+    assert!(
+        of_check.iter().any(|l| l.contains("answered status=422")),
+        "no answer line in {text}"
+    );
+    assert!(
+        !text.contains("/v1/clarify"),
+        "a request the filter leaves out was logged: {text}"
+    );
+}
+
 #[tokio::test]
 async fn log_utterances_puts_the_words_and_the_speaker_in_the_decision_line() {
     let (lines, _) = json_log_of_one_decision(&["--log-utterances"]).await;
