@@ -2,9 +2,8 @@
 //!
 //! Owns: the process-wide table of names, its bound, and which names last (the vocabulary of
 //! verbs and norms, and the names requests use most; each set bounded), which each thread also
-//! finds without the table. Must not: keep a name
-//! nobody holds past the next sweep unless it lasts (names come from requests), or order
-//! anything by address (order is by text).
+//! finds without the table. Must not: keep a name nobody holds past the next sweep unless it
+//! lasts (names come from requests), or order anything by address (order is by text).
 
 use std::borrow::Borrow;
 use std::cell::RefCell;

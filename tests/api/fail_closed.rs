@@ -235,8 +235,9 @@ async fn the_service_refuses_to_start_on_a_file_that_is_not_a_database() {
 
 /// PostgreSQL down (here: the database dropped and every connection to it terminated): clarify
 /// answers 503 rather than deciding without norms, once the lease on the versions read before
-/// the drop has run out (README, "Several replicas on PostgreSQL"). Until then the norms read under it still hold;
-/// without the wait, the test passed only when the drop itself outlasted the lease.
+/// the drop has run out (README, "Several replicas on PostgreSQL"). Until then the norms read
+/// under it still hold; without the wait, the test passed only when the drop itself outlasted
+/// the lease.
 #[tokio::test]
 async fn a_postgresql_database_gone_fails_closed() {
     let database = crate::backends::PgDatabase::create().await;
