@@ -455,6 +455,24 @@ fn give_back_when_idle() {
     });
 }
 
+/// The server's memory in 4 KiB pages, never transparent huge ones. mimalloc asks for huge
+/// pages on its arena (`MADV_HUGEPAGE`), and a 2 MiB page stays resident whole while any one
+/// block in it is live: after a burst of heavy requests the arena kept 25-40 MiB resident, up
+/// to 2.2x the idle RSS, where 4 KiB pages keep 8-11 MiB (BENCHMARKS.md, "tenth sitting").
+/// The kernel's per-process flag covers what mimalloc already asked for and a system set to
+/// `always` alike. It is set here, once, before the runtime starts; a page faulted in before
+/// `main` keeps its size.
+#[cfg(target_os = "linux")]
+fn no_huge_pages() {
+    // SAFETY: PR_SET_THP_DISABLE takes integers only and changes how the kernel backs this
+    // process's later page faults, not any memory already in use. A kernel without it (before
+    // 3.15) refuses it, and the server runs as before, only slower to give memory back.
+    let _ = unsafe { libc::prctl(libc::PR_SET_THP_DISABLE, 1, 0, 0, 0) };
+}
+
+#[cfg(not(target_os = "linux"))]
+fn no_huge_pages() {}
+
 fn main() -> ExitCode {
     // A server's freed memory goes back to the OS at once, not 10 ms later: a thread that has
     // just finished a heavy decision is often idle after it, and an idle thread's heap is never
@@ -465,6 +483,7 @@ fn main() -> ExitCode {
     if matches!(cli.command, Command::Serve(_)) {
         // SAFETY: sets an option before any thread but this one allocates.
         unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, 0) };
+        no_huge_pages();
     }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()

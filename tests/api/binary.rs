@@ -45,3 +45,23 @@ async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm(
     let status = tokio::task::spawn_blocking(move || served.terminate()).await.unwrap();
     assert_eq!(status.code(), Some(0), "SIGTERM drains and exits 0");
 }
+
+/// The server keeps its heap in 4 KiB pages (main.rs, `no_huge_pages`), so that what a burst
+/// of heavy requests frees goes back to the OS: the kernel reports transparent huge pages off
+/// for the serving process, whatever the system's setting.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_server_runs_without_transparent_huge_pages() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("pages.db");
+    let served = serve_binary(&format!("sqlite://{}", db.display()), &[], &[], Stdio::null());
+    let status = std::fs::read_to_string(format!("/proc/{}/status", served.child.id()));
+    served.terminate();
+    let status = status.expect("the server's /proc status is readable");
+    let thp = status.lines().find_map(|line| line.strip_prefix("THP_enabled:"));
+    assert_eq!(
+        thp.map(str::trim),
+        Some("0"),
+        "THP_enabled in /proc/PID/status:\n{status}"
+    );
+}
