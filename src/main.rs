@@ -457,8 +457,8 @@ fn give_back_when_idle() {
 
 /// The server's memory in 4 KiB pages, never transparent huge ones. mimalloc asks for huge
 /// pages on its arena (`MADV_HUGEPAGE`), and a 2 MiB page stays resident whole while any one
-/// block in it is live: after a burst of heavy requests the arena kept 25-40 MiB resident, up
-/// to 2.2x the idle RSS, where 4 KiB pages keep 8-11 MiB (BENCHMARKS.md, "tenth sitting").
+/// block in it is live: after a burst of heavy requests the arena kept 25-42 MiB resident, up
+/// to 2.2x the idle RSS, where 4 KiB pages keep 9-16 MiB (BENCHMARKS.md, "tenth sitting").
 /// The kernel's per-process flag covers what mimalloc already asked for and a system set to
 /// `always` alike. It is set here, once, before the runtime starts; a page faulted in before
 /// `main` keeps its size.
