@@ -87,6 +87,47 @@ pub struct CacheLabels {
 
 type HistogramFamily<L> = Family<L, Histogram, fn() -> Histogram>;
 
+/// How many label sets of one family are kept at hand; later ones are looked up in the family.
+const HOT: usize = 32;
+
+/// The series of the first [`HOT`] label sets a family is asked for, found by comparing labels
+/// in order: no hash and no lock, where the family hashes its labels (SipHash) and takes its
+/// map's lock on every count. A service asks for a few label sets again and again, and has
+/// asked for them early (its routes, its statuses), so the label sets counted per request sit
+/// in the first slots.
+///
+/// Invariant: a slot holds a clone of the family's own series (one shared value), so a count
+/// through either is the same count, and each label set is in at most one slot: a lookup tries
+/// the slots in order and claims the first empty one, so it finds a set already claimed before
+/// any slot after it.
+struct Hot<L, M> {
+    slots: [OnceLock<(L, M)>; HOT],
+}
+
+impl<L, M> Default for Hot<L, M> {
+    fn default() -> Self {
+        Hot {
+            slots: std::array::from_fn(|_| OnceLock::new()),
+        }
+    }
+}
+
+impl<L: Clone + Eq + std::hash::Hash, M: Clone> Hot<L, M> {
+    /// Calls `record` with `labels`'s series in `family`, made if new.
+    fn with<C>(&self, family: &Family<L, M, C>, labels: &L, record: impl FnOnce(&M))
+    where
+        C: prometheus_client::metrics::family::MetricConstructor<M>,
+    {
+        for slot in &self.slots {
+            let (held, series) = slot.get_or_init(|| (labels.clone(), family.get_or_create(labels).clone()));
+            if held == labels {
+                return record(series);
+            }
+        }
+        record(&family.get_or_create(labels));
+    }
+}
+
 fn latency() -> Histogram {
     // 100 µs .. ~6.5 s: an inline decision is tens of microseconds, a big one seconds.
     Histogram::new(exponential_buckets(0.0001, 2.0, 17))
@@ -94,15 +135,16 @@ fn latency() -> Histogram {
 
 pub struct Metrics {
     registry: Registry,
-    pub requests: Family<RequestLabels, Counter>,
-    pub latency: HistogramFamily<RouteLabels>,
-    pub decisions: Family<DecisionLabels, Counter>,
+    requests: Family<RequestLabels, Counter>,
+    requests_hot: Hot<RequestLabels, Counter>,
+    latency: HistogramFamily<RouteLabels>,
+    latency_hot: Hot<RouteLabels, Histogram>,
+    decisions: Family<DecisionLabels, Counter>,
+    decisions_hot: Hot<DecisionLabels, Counter>,
     /// Readings simulated per decision (not counting those a limit left unsimulated).
     pub readings: Histogram,
-    pub cache: Family<CacheLabels, Counter>,
-    /// Each (cache, outcome) series of `cache`, looked up once, at its first count: counted on
-    /// every request, so neither a lock nor a hash is spent on it after that.
-    cache_series: [OnceLock<Counter>; 4],
+    cache: Family<CacheLabels, Counter>,
+    cache_hot: Hot<CacheLabels, Counter>,
     /// Requests refused by admission control (503 / UNAVAILABLE).
     pub overloaded: Counter,
     /// Decisions and checks being simulated right now; work whose client left stops within a
@@ -167,11 +209,14 @@ impl Metrics {
             in_flight,
             registry,
             requests,
+            requests_hot: Hot::default(),
             latency,
+            latency_hot: Hot::default(),
             decisions,
+            decisions_hot: Hot::default(),
             readings,
             cache,
-            cache_series: Default::default(),
+            cache_hot: Hot::default(),
             overloaded,
         }
     }
@@ -187,9 +232,28 @@ impl Metrics {
                 Outcome::Refresh => "refresh",
             },
         };
-        self.cache_series[cache as usize * 2 + outcome as usize]
-            .get_or_init(|| self.cache.get_or_create(&labels).clone())
-            .inc();
+        self.cache_hot.with(&self.cache, &labels, |c| {
+            c.inc();
+        });
+    }
+
+    /// Counts one answered request.
+    pub fn answered(&self, labels: &RequestLabels) {
+        self.requests_hot.with(&self.requests, labels, |c| {
+            c.inc();
+        });
+    }
+
+    /// Records the time, in seconds, from a request to its answer's head.
+    pub fn timed(&self, labels: &RouteLabels, seconds: f64) {
+        self.latency_hot.with(&self.latency, labels, |h| h.observe(seconds));
+    }
+
+    /// Counts one decision of `kind`.
+    pub fn decided(&self, kind: &'static str) {
+        self.decisions_hot.with(&self.decisions, &DecisionLabels { kind }, |c| {
+            c.inc();
+        });
     }
 
     /// The OpenMetrics text exposition of every metric.
@@ -198,5 +262,41 @@ impl Metrics {
         // Writing to a String cannot fail.
         let _ = encode(&mut text, &self.registry);
         text
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past the label sets kept at hand, counts go to the family itself; either way each label
+    /// set has one series, and every count lands in it.
+    #[test]
+    fn every_label_set_counts_once_per_call_past_the_ones_at_hand() {
+        let metrics = Metrics::new();
+        let route: Arc<str> = Arc::from("/v1/clarify");
+        let statuses: Vec<u16> = (200..200 + 2 * HOT as u16).collect();
+        for round in 1..=3 {
+            for &status in &statuses {
+                metrics.answered(&RequestLabels {
+                    route: route.clone(),
+                    method: "POST",
+                    status: Status::Http(status),
+                });
+            }
+            let text = metrics.render();
+            for status in &statuses {
+                let line = format!(
+                    "scruple_http_requests_total{{route=\"/v1/clarify\",method=\"POST\",status=\"{status}\"}} {round}\n"
+                );
+                assert!(text.contains(&line), "missing {line:?} in\n{text}");
+            }
+        }
+        for kind in ["assume", "ask", "assume"] {
+            metrics.decided(kind);
+        }
+        let text = metrics.render();
+        assert!(text.contains("scruple_decisions_total{kind=\"assume\"} 2\n"), "{text}");
+        assert!(text.contains("scruple_decisions_total{kind=\"ask\"} 1\n"), "{text}");
     }
 }

@@ -28,7 +28,7 @@ use crate::engine::request::{Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
 use crate::error::Error;
-use crate::metrics::{DecisionLabels, Metrics};
+use crate::metrics::Metrics;
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
 /// What one request may ask, whether the human's words may be logged, and how long the stored
@@ -242,10 +242,7 @@ impl Core {
                 .await
                 .map_err(|e| Error::Internal(format!("the decision task failed: {e}")))??
         };
-        let kind = DecisionLabels {
-            kind: decision.kind.as_str(),
-        };
-        self.metrics.decisions.get_or_create(&kind).inc();
+        self.metrics.decided(decision.kind.as_str());
         self.metrics.readings.observe(decision.interpretations.len() as f64);
         self.log(&decision, text, &speaker);
         Ok(decision)

@@ -6,7 +6,7 @@
 //! exists), never raw paths an attacker could multiply; methods are the standard ones or
 //! `other`, statuses the ones the service answers with; the words stay out of spans.
 
-use std::collections::HashSet;
+use rustc_hash::FxHashSet;
 use std::convert::Infallible;
 use std::future::Future;
 use std::pin::Pin;
@@ -31,12 +31,14 @@ pub const REQUEST_ID: HeaderName = HeaderName::from_static("x-request-id");
 const GRPC_STATUS: HeaderName = HeaderName::from_static("grpc-status");
 
 /// What the observing layer needs: the metrics, and the gRPC methods that exist (a gRPC path is
-/// a label only when it names one of them, whatever the answer).
+/// a label only when it names one of them, whatever the answer). Both sets are looked up on
+/// every request and filled only here, from the binary's own names, so FxHash, not SipHash: a
+/// client's path is only ever looked up, never inserted.
 pub struct Observer {
     pub metrics: Arc<Metrics>,
-    grpc_methods: HashSet<Arc<str>>,
+    grpc_methods: FxHashSet<Arc<str>>,
     /// The REST route templates, each text kept once, so that labelling a request copies none.
-    routes: HashSet<Arc<str>>,
+    routes: FxHashSet<Arc<str>>,
     unmatched: Arc<str>,
 }
 
@@ -48,7 +50,7 @@ impl Observer {
         descriptor_sets: &[&[u8]],
         routes: impl IntoIterator<Item = String>,
     ) -> Arc<Observer> {
-        let mut grpc_methods = HashSet::new();
+        let mut grpc_methods = FxHashSet::default();
         for encoded in descriptor_sets {
             // The sets are compiled into the binary; one that does not decode names no method.
             let Ok(set) = prost_types::FileDescriptorSet::decode(*encoded) else {
@@ -249,21 +251,18 @@ impl<F: Future<Output = Result<Response, Infallible>>> Future for Observed<F> {
                 .in_scope(|| tracing::debug!(status = %status, seconds, "answered"));
         }
         let metrics = &asked.observer.metrics;
-        metrics
-            .latency
-            .get_or_create(&RouteLabels {
+        metrics.timed(
+            &RouteLabels {
                 route: asked.route.clone(),
                 method: asked.method,
-            })
-            .observe(seconds);
-        metrics
-            .requests
-            .get_or_create(&RequestLabels {
-                route: asked.route,
-                method: asked.method,
-                status,
-            })
-            .inc();
+            },
+            seconds,
+        );
+        metrics.answered(&RequestLabels {
+            route: asked.route,
+            method: asked.method,
+            status,
+        });
         if !response.headers().contains_key(&REQUEST_ID) {
             // Never indexed by HTTP/2's header compression: each id is sent once, and adding it
             // to the connection's table costs work and pushes out the headers that do repeat.
