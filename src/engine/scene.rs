@@ -20,6 +20,9 @@ use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, p
 use super::term::Term;
 
 mod facts;
+mod spoken;
+
+pub use spoken::{spoken, spoken_into, spoken_is, spoken_onto};
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -487,50 +490,6 @@ fn euclid(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
-/// A type, value or verb as spoken: `_` as spaces, camel case split, lower case.
-/// `cash_box` → "cash box", `pointTo` → "point to".
-pub fn spoken(name: &str) -> String {
-    let mut out = String::with_capacity(name.len() + 4);
-    spoken_into(name, &mut out);
-    out
-}
-
-/// `spoken`, written into `out` (cleared first), so that a caller comparing many names needs
-/// one buffer.
-pub fn spoken_into(name: &str, out: &mut String) {
-    out.clear();
-    spoken_onto(name, out);
-}
-
-/// `spoken`, appended to `out`.
-pub fn spoken_onto(name: &str, out: &mut String) {
-    // Most names (`vase`, `object3`) are spoken as written: nothing to split, lower or trim.
-    if name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit()) {
-        out.push_str(name);
-        return;
-    }
-    let start = out.len();
-    let mut previous: Option<char> = None;
-    for c in name.chars() {
-        let at_start = out.len() == start;
-        if c == '_' {
-            if !out.ends_with(' ') && !at_start {
-                out.push(' ');
-            }
-        } else if c.is_uppercase() {
-            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit()) && !out[start..].ends_with(' ') {
-                out.push(' ');
-            }
-            out.extend(c.to_lowercase());
-        } else {
-            out.push(c);
-        }
-        previous = Some(c);
-    }
-    let kept = start + out[start..].trim_end().len();
-    out.truncate(kept);
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -668,25 +627,5 @@ mod tests {
             let blocker = scene.blocked_by(target).map(|o| o.id.as_str());
             assert_eq!(blocker, expected, "reaching for {target}");
         }
-    }
-
-    #[test]
-    fn spoken_forms() {
-        for (name, words) in [
-            ("cash_box", "cash box"),
-            ("pointTo", "point to"),
-            ("mug", "mug"),
-            ("object3", "object3"),
-            ("getURL", "get url"),
-            ("dark_red", "dark red"),
-        ] {
-            assert_eq!(spoken(name), words);
-            let mut after = String::from("the ");
-            spoken_onto(name, &mut after);
-            assert_eq!(after, format!("the {words}"));
-        }
-        let mut trailing = String::from("a ");
-        spoken_onto("_x_", &mut trailing);
-        assert_eq!(trailing, "a x");
     }
 }

@@ -64,6 +64,8 @@ fn tokens(text: &str) -> Vec<Token> {
         let mut word = String::new();
         for c in piece.chars() {
             match c {
+                // Most words are ASCII: lowered without `to_lowercase`'s iterator.
+                c if c.is_ascii_alphanumeric() => word.push(c.to_ascii_lowercase()),
                 ',' => {
                     if !word.is_empty() {
                         out.push(Token {

@@ -9,7 +9,7 @@
 
 use crate::engine::action::{Library, VerbPhrase};
 use crate::engine::resolve::Sense;
-use crate::engine::scene::{Scene, spoken_into};
+use crate::engine::scene::{Scene, spoken_into, spoken_is};
 
 /// What a noun names: the types spoken so (`cash box` → `cash_box`), and the objects that
 /// have it as one of their `names`.
@@ -38,8 +38,13 @@ impl<'a> Lexicon<'a> {
     pub fn new(scene: &'a Scene, library: &'a Library) -> Lexicon<'a> {
         let mut longest = 1;
         for o in &scene.objects {
-            // Most names are one word; only those with a separator are counted out.
-            let separated = |n: &str| n.contains('_') || n.contains(' ') || n.chars().any(char::is_uppercase);
+            // Most names are one word; only those that may have a separator are counted out.
+            // One pass over the bytes: any non-ASCII byte may be part of an upper-case letter
+            // (a word boundary), so such a name is counted out too.
+            let separated = |n: &str| {
+                n.bytes()
+                    .any(|b| b == b'_' || b == b' ' || b.is_ascii_uppercase() || !b.is_ascii())
+            };
             for name in std::iter::once(&o.kind)
                 .chain(&o.properties)
                 .chain(o.attributes.values())
@@ -63,8 +68,7 @@ impl<'a> Lexicon<'a> {
         let mut buffer = String::new();
         let mut noun = Noun::default();
         for o in &self.scene.objects {
-            spoken_into(&o.kind, &mut buffer);
-            if buffer == wanted && !noun.kinds.contains(&o.kind) {
+            if spoken_is(&o.kind, &wanted, &mut buffer) && !noun.kinds.contains(&o.kind) {
                 noun.kinds.push(o.kind.clone());
             }
             if o.names.contains(&wanted) && !noun.named.contains(&o.id) {
@@ -88,14 +92,12 @@ impl<'a> Lexicon<'a> {
         };
         for o in &self.scene.objects {
             for property in &o.properties {
-                spoken_into(property, &mut buffer);
-                if buffer == wanted {
+                if spoken_is(property, &wanted, &mut buffer) {
                     add(Sense::Property(property.clone()));
                 }
             }
             for (key, value) in &o.attributes {
-                spoken_into(value, &mut buffer);
-                if buffer == wanted {
+                if spoken_is(value, &wanted, &mut buffer) {
                     add(Sense::Attribute {
                         key: key.clone(),
                         value: value.clone(),

@@ -1,0 +1,103 @@
+//! Names as a human speaks them: `cash_box` is "cash box", `pointTo` "point to". What the
+//! scene's types, properties and values, and the verbs, are called in words.
+//!
+//! Owns: the one spoken form of a name. Must not: know which names exist (the lexicon does).
+
+/// A type, value or verb as spoken: `_` as spaces, camel case split, lower case.
+/// `cash_box` → "cash box", `pointTo` → "point to".
+pub fn spoken(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    spoken_into(name, &mut out);
+    out
+}
+
+/// `spoken`, written into `out` (cleared first), so that a caller comparing many names needs
+/// one buffer.
+pub fn spoken_into(name: &str, out: &mut String) {
+    out.clear();
+    spoken_onto(name, out);
+}
+
+/// Whether `name` is spoken as `words`, without copying a name spoken as written; `buffer` is
+/// scratch for one that is not.
+pub fn spoken_is(name: &str, words: &str, buffer: &mut String) -> bool {
+    if as_written(name) {
+        return name == words;
+    }
+    spoken_into(name, buffer);
+    buffer == words
+}
+
+/// Most names (`vase`, `object3`) are spoken as written: nothing to split, lower or trim.
+fn as_written(name: &str) -> bool {
+    name.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit())
+}
+
+/// `spoken`, appended to `out`.
+pub fn spoken_onto(name: &str, out: &mut String) {
+    if as_written(name) {
+        out.push_str(name);
+        return;
+    }
+    let start = out.len();
+    let mut previous: Option<char> = None;
+    for c in name.chars() {
+        let at_start = out.len() == start;
+        if c == '_' {
+            if !out.ends_with(' ') && !at_start {
+                out.push(' ');
+            }
+        } else if c.is_uppercase() {
+            if matches!(previous, Some(p) if p.is_lowercase() || p.is_ascii_digit()) && !out[start..].ends_with(' ') {
+                out.push(' ');
+            }
+            out.extend(c.to_lowercase());
+        } else {
+            out.push(c);
+        }
+        previous = Some(c);
+    }
+    let kept = start + out[start..].trim_end().len();
+    out.truncate(kept);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spoken_forms() {
+        for (name, words) in [
+            ("cash_box", "cash box"),
+            ("pointTo", "point to"),
+            ("mug", "mug"),
+            ("object3", "object3"),
+            ("getURL", "get url"),
+            ("dark_red", "dark red"),
+        ] {
+            assert_eq!(spoken(name), words);
+            let mut after = String::from("the ");
+            spoken_onto(name, &mut after);
+            assert_eq!(after, format!("the {words}"));
+        }
+        let mut trailing = String::from("a ");
+        spoken_onto("_x_", &mut trailing);
+        assert_eq!(trailing, "a x");
+    }
+
+    #[test]
+    fn a_name_is_spoken_as_its_words_only() {
+        let mut buffer = String::new();
+        for (name, words, is) in [
+            ("vase", "vase", true),
+            ("vase", "vases", false),
+            ("cash_box", "cash box", true),
+            ("cash_box", "cash_box", false),
+            ("pointTo", "point to", true),
+            ("Mug", "mug", true),
+            ("Mug", "Mug", false),
+        ] {
+            assert_eq!(spoken_is(name, words, &mut buffer), is, "{name} as {words:?}");
+        }
+    }
+}
