@@ -109,6 +109,41 @@ mod tests {
         }
     }
 
+    /// A body that sends one chunk, then nothing.
+    struct Trickle(bool);
+
+    impl Body for Trickle {
+        type Data = Bytes;
+        type Error = std::convert::Infallible;
+
+        fn poll_frame(
+            mut self: Pin<&mut Self>,
+            _: &mut Context<'_>,
+        ) -> Poll<Option<Result<Frame<Bytes>, Self::Error>>> {
+            if self.0 {
+                return Poll::Pending;
+            }
+            self.0 = true;
+            Poll::Ready(Some(Ok(Frame::data(Bytes::from_static(b"{")))))
+        }
+    }
+
+    /// The deadline runs from the first read, also while the handler is not reading: a read
+    /// after it fails as soon as the timer is looked at, rather than waiting a limit again.
+    #[tokio::test]
+    async fn the_deadline_runs_from_the_first_read_while_the_handler_is_not_reading() {
+        let limit = Duration::from_millis(200);
+        let mut body = std::pin::pin!(TimedBody::new(Trickle(false), limit));
+        assert!(matches!(body.frame().await, Some(Ok(_))));
+        // The handler does other work past the deadline before it reads again.
+        std::thread::sleep(limit + Duration::from_millis(50));
+        match tokio::time::timeout(limit / 2, body.frame()).await {
+            Ok(Some(Err(error))) => assert!(timed_out(&*error).is_some(), "{error}"),
+            Ok(other) => panic!("the second read should time out: {other:?}"),
+            Err(_) => panic!("the second read waited as if its deadline had started again"),
+        }
+    }
+
     #[tokio::test]
     async fn a_stalled_body_fails_at_its_deadline_and_a_whole_one_does_not() {
         let error = TimedBody::new(Stalled, Duration::from_millis(30))
