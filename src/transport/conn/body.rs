@@ -97,22 +97,10 @@ mod tests {
     use super::*;
     use http_body_util::BodyExt;
 
-    /// A body that never sends anything.
-    struct Stalled;
+    /// A body that sends its one chunk, if it has one, then nothing ever again.
+    struct Stalls(Option<Bytes>);
 
-    impl Body for Stalled {
-        type Data = Bytes;
-        type Error = std::convert::Infallible;
-
-        fn poll_frame(self: Pin<&mut Self>, _: &mut Context<'_>) -> Poll<Option<Result<Frame<Bytes>, Self::Error>>> {
-            Poll::Pending
-        }
-    }
-
-    /// A body that sends one chunk, then nothing.
-    struct Trickle(bool);
-
-    impl Body for Trickle {
+    impl Body for Stalls {
         type Data = Bytes;
         type Error = std::convert::Infallible;
 
@@ -120,11 +108,10 @@ mod tests {
             mut self: Pin<&mut Self>,
             _: &mut Context<'_>,
         ) -> Poll<Option<Result<Frame<Bytes>, Self::Error>>> {
-            if self.0 {
-                return Poll::Pending;
+            match self.0.take() {
+                Some(chunk) => Poll::Ready(Some(Ok(Frame::data(chunk)))),
+                None => Poll::Pending,
             }
-            self.0 = true;
-            Poll::Ready(Some(Ok(Frame::data(Bytes::from_static(b"{")))))
         }
     }
 
@@ -133,7 +120,7 @@ mod tests {
     #[tokio::test]
     async fn the_deadline_runs_from_the_first_read_while_the_handler_is_not_reading() {
         let limit = Duration::from_millis(200);
-        let mut body = std::pin::pin!(TimedBody::new(Trickle(false), limit));
+        let mut body = std::pin::pin!(TimedBody::new(Stalls(Some(Bytes::from_static(b"{"))), limit));
         assert!(matches!(body.frame().await, Some(Ok(_))));
         // The handler does other work past the deadline before it reads again.
         std::thread::sleep(limit + Duration::from_millis(50));
@@ -146,7 +133,7 @@ mod tests {
 
     #[tokio::test]
     async fn a_stalled_body_fails_at_its_deadline_and_a_whole_one_does_not() {
-        let error = TimedBody::new(Stalled, Duration::from_millis(30))
+        let error = TimedBody::new(Stalls(None), Duration::from_millis(30))
             .collect()
             .await
             .expect_err("the read fails");
