@@ -14,7 +14,7 @@ use parry3d::math::{Isometry, Point, Real, Translation, Vector};
 use parry3d::na::{Quaternion, UnitQuaternion};
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d::query::{self, ShapeCastOptions};
-use parry3d::shape::{Ball, SharedShape};
+use parry3d::shape::{Ball, Cuboid, Cylinder};
 
 use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
 use super::term::Term;
@@ -349,7 +349,7 @@ impl Scene {
                 .objects
                 .iter()
                 .enumerate()
-                .filter_map(|(i, o)| parry_shape(o).map(|(pose, shape)| (i, shape.compute_aabb(&pose))))
+                .filter_map(|(i, o)| parry_shape(o).map(|(pose, solid)| (i, solid.shape().compute_aabb(&pose))))
                 .unzip();
             (Bvh::from_leaves(BvhBuildStrategy::default(), &boxes), objects)
         })
@@ -365,8 +365,26 @@ fn point(p: &[f64; 3]) -> Point<Real> {
     Point::new(p[0] as Real, p[1] as Real, p[2] as Real)
 }
 
+/// An object's shape as parry sees it, in its own frame, held by value: asked about once per
+/// reading (room on a support) and once per object (reach, the BVH), it costs no allocation.
+enum Solid {
+    Ball(Ball),
+    Cuboid(Cuboid),
+    Cylinder(Cylinder),
+}
+
+impl Solid {
+    fn shape(&self) -> &dyn parry3d::shape::Shape {
+        match self {
+            Solid::Ball(ball) => ball,
+            Solid::Cuboid(cuboid) => cuboid,
+            Solid::Cylinder(cylinder) => cylinder,
+        }
+    }
+}
+
 /// The object's shape as parry sees it, with its pose in the world frame; `None` for a point.
-fn parry_shape(object: &Object) -> Option<(Isometry<Real>, SharedShape)> {
+fn parry_shape(object: &Object) -> Option<(Isometry<Real>, Solid)> {
     let centre = point(&object.position).coords;
     let rotation = match object.rotation {
         Some([x, y, z, w]) => {
@@ -376,14 +394,20 @@ fn parry_shape(object: &Object) -> Option<(Isometry<Real>, SharedShape)> {
     };
     let pose = Isometry::from_parts(Translation::from(centre), rotation);
     Some(match object.shape.as_ref()? {
-        Shape::Ball { radius } => (pose, SharedShape::ball(*radius as Real)),
-        Shape::Cuboid { half_extents: h } => (pose, SharedShape::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)),
+        Shape::Ball { radius } => (pose, Solid::Ball(Ball::new(*radius as Real))),
+        Shape::Cuboid { half_extents: h } => (
+            pose,
+            Solid::Cuboid(Cuboid::new(Vector::new(h[0] as Real, h[1] as Real, h[2] as Real))),
+        ),
         Shape::Cylinder { radius, half_height } => {
             // parry's cylinder stands along its local y; ours along the object's z. A quarter
             // turn about x carries local y onto z before the object's own rotation applies.
             let y_to_z = UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::FRAC_PI_2);
             let pose = pose * Isometry::from_parts(Translation::identity(), y_to_z);
-            (pose, SharedShape::cylinder(*half_height as Real, *radius as Real))
+            (
+                pose,
+                Solid::Cylinder(Cylinder::new(*half_height as Real, *radius as Real)),
+            )
         }
     })
 }
@@ -392,7 +416,7 @@ fn parry_shape(object: &Object) -> Option<(Isometry<Real>, SharedShape)> {
 pub fn distance_to_shape(object: &Object, at: &[f64; 3]) -> f64 {
     match parry_shape(object) {
         None => euclid(&object.position, at),
-        Some((pose, shape)) => f64::from(shape.distance_to_point(&pose, &point(at), true)),
+        Some((pose, solid)) => f64::from(solid.shape().distance_to_point(&pose, &point(at), true)),
     }
 }
 
@@ -416,8 +440,8 @@ pub fn room_on(support: &Object, item: &Object) -> bool {
     if matches!(support.shape, Some(Shape::Ball { .. })) {
         return false;
     }
-    let footprint = |pose: &Isometry<Real>, shape: &SharedShape| {
-        let aabb = shape.compute_aabb(pose);
+    let footprint = |pose: &Isometry<Real>, solid: &Solid| {
+        let aabb = solid.shape().compute_aabb(pose);
         let extents = aabb.extents();
         let (a, b) = (extents.x, extents.y);
         if a <= b { (a, b) } else { (b, a) }
@@ -447,8 +471,8 @@ fn first_in_the_way(scene: &Scene, target: usize, size: f64) -> Option<usize> {
     let options = ShapeCastOptions::with_max_time_of_impact(length);
     // Time (in metres travelled, at unit speed) until the gripper touches an object's shape.
     let time_to = |object: &Object| -> Option<Real> {
-        let (pose, shape) = parry_shape(object)?;
-        if query::intersection_test(&at_start, &gripper, &pose, shape.as_ref()).unwrap_or(false) {
+        let (pose, solid) = parry_shape(object)?;
+        if query::intersection_test(&at_start, &gripper, &pose, solid.shape()).unwrap_or(false) {
             return None;
         }
         let hit = query::cast_shapes(
@@ -457,7 +481,7 @@ fn first_in_the_way(scene: &Scene, target: usize, size: f64) -> Option<usize> {
             &gripper,
             &pose,
             &Vector::zeros(),
-            shape.as_ref(),
+            solid.shape(),
             options,
         );
         hit.ok().flatten().map(|h| h.time_of_impact)
