@@ -123,15 +123,10 @@ pub fn check(
     style: Style,
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Check {
-    let env = Env {
-        scene,
-        norms,
-        library,
-        scope,
-        expired,
-    };
+    let base = Arc::new(Base::new(scene.all_facts()));
+    let env = Env::new(scene, norms, library, scope, &base, expired);
     let mut describer = Describer::new(scene, library);
-    let mut world = World::new(Arc::new(Base::new(scene.all_facts())));
+    let mut world = World::new(base);
     let mut checked = Vec::with_capacity(steps.len());
     for step in steps {
         // Past the deadline no further step is begun: the check says how far it got.

@@ -289,23 +289,17 @@ fn decide_directive(
 
     let base = Arc::new(Base::new(scene.all_facts()));
     let facts = base.len();
-    let world = World::new(base);
-    let env = Env {
-        scene,
-        norms,
-        library,
-        scope: Scope {
-            context: &request.context,
-            roles: &request.speaker_roles,
-            // The reflexive strategy ignores soft norms as it ignores all norms.
-            soft: options.strategy == Strategy::Moral && options.soft_norms == SoftNorms::Rank,
-        },
-        expired,
+    let scope = Scope {
+        context: &request.context,
+        roles: &request.speaker_roles,
+        // The reflexive strategy ignores soft norms as it ignores all norms.
+        soft: options.strategy == Strategy::Moral && options.soft_norms == SoftNorms::Rank,
     };
+    let env = Env::new(scene, norms, library, scope, &base, expired);
+    let world = World::new(base);
     let total = readings.len();
     let simulate_one = |reading: &mut Interpretation| {
-        reading.outcome = simulate(&env, &world, &reading.action);
-        reading.action = did(&reading.action);
+        (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);
     };
     // Readings are simulated in batches, in the contract's order, with the deadline asked
     // between batches (the first batch always runs). Many readings go to rayon's pool; each is

@@ -6,10 +6,10 @@
 
 use super::action::{Library, Method, Step};
 use super::input::Spelled;
-use super::norms::{CompiledNorms, Force, NormKind, Scope, SoftMatch};
+use super::norms::{CompiledNorms, Force, InForce, NormKind, Scope, SoftMatch};
 use super::scene::{Scene, grasp_width, room_on};
 use super::term::{Bound, Subst, Sym, Term};
-use super::world::World;
+use super::world::{Base, KeyBit, World};
 
 /// Steps may expand into steps at most this deep; a deeper plan is a reason, not a crash.
 pub const MAX_PLAN_DEPTH: usize = 8;
@@ -293,14 +293,23 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
 
 /// `did(self,action)`: the paper's convention for "action is done".
 pub fn did(action: &Term) -> Term {
-    // Built once per reading and step: the two names are looked up once per process.
-    static NAMES: std::sync::LazyLock<(Sym, Term)> = std::sync::LazyLock::new(|| {
-        let names = (Sym::new("did"), Term::constant("self"));
-        names.0.make_lasting();
-        names.1.make_lasting();
-        names
-    });
-    Term::Compound(NAMES.0.clone(), std::sync::Arc::from([NAMES.1.clone(), action.clone()]))
+    Term::Compound(
+        did_name().clone(),
+        std::sync::Arc::from([DID.1.clone(), action.clone()]),
+    )
+}
+
+/// `did` and `self`: built once per reading and step, so the two names are looked up once per
+/// process.
+static DID: std::sync::LazyLock<(Sym, Term)> = std::sync::LazyLock::new(|| {
+    let names = (Sym::new("did"), Term::constant("self"));
+    names.0.make_lasting();
+    names.1.make_lasting();
+    names
+});
+
+fn did_name() -> &'static Sym {
+    &DID.0
 }
 
 /// Everything a simulation reads; shared by all readings of a request.
@@ -308,17 +317,57 @@ pub struct Env<'a> {
     pub scene: &'a Scene,
     pub norms: &'a CompiledNorms,
     pub library: &'a Library,
-    /// The context and the speaker's roles: which norms are in force.
-    pub scope: Scope<'a>,
+    /// The norms the request's context and speaker's roles put in force, less those no world
+    /// of the request can meet.
+    in_force: InForce,
     /// Whether the request's deadline has passed or its client has gone: asked before every step
     /// is expanded, so that a verb whose plan explodes cannot hold a core past the deadline.
     pub expired: &'a (dyn Fn() -> bool + Sync),
+}
+
+impl<'a> Env<'a> {
+    /// The simulations of one request over `base`, the facts of `scene`.
+    pub fn new(
+        scene: &'a Scene,
+        norms: &'a CompiledNorms,
+        library: &'a Library,
+        scope: Scope<'_>,
+        base: &Base,
+        expired: &'a (dyn Fn() -> bool + Sync),
+    ) -> Env<'a> {
+        // A fact holds in a reading's world only if the scene states it or a step made it true:
+        // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
+        let mut made: Vec<(&Sym, usize)> = vec![(did_name(), 2)];
+        let mut any = false;
+        for method in library.verbs().into_iter().flat_map(|def| &def.methods) {
+            for fact in &method.adds {
+                match fact.name() {
+                    Some(name) if !fact.is_var() => made.push((name, fact.arity())),
+                    _ => any = true,
+                }
+            }
+        }
+        let can_hold = |key: &KeyBit| {
+            let (name, arity) = key.key();
+            any || base.may_have(key) || made.iter().any(|&(n, a)| n == name && a == *arity)
+        };
+        Env {
+            scene,
+            norms,
+            library,
+            in_force: norms.in_force(scope, &can_hold),
+            expired,
+        }
+    }
 }
 
 struct Run<'a> {
     env: &'a Env<'a>,
     /// The reading's own action: a soft reason's words name only facts about its objects.
     reading: &'a Term,
+    /// `did(self,reading)`, made once: the goal state checked first and the fact the reading's
+    /// own step makes true.
+    done: &'a Term,
     world: World,
     outcome: Outcome,
     /// Set once `expired` said so: nothing more is expanded.
@@ -337,7 +386,7 @@ impl Run<'_> {
 
     fn check_action(&mut self, action: &Term) {
         let (env, reading, world, outcome) = (self.env, self.reading, &self.world, &mut self.outcome);
-        env.norms.check_action(action, world, env.scope, &mut |v| {
+        env.norms.check_action(action, world, &env.in_force, &mut |v| {
             let cause = match v.soft {
                 Some(found) => soft(env, world, reading, v.kind, action.clone(), found),
                 None => Cause::ForbiddenAction {
@@ -352,7 +401,7 @@ impl Run<'_> {
     /// State norms the world meets because of `new_facts`, just made true in it.
     fn check_entered(&mut self, new_facts: &[Term]) {
         let (env, reading, world, outcome) = (self.env, self.reading, &self.world, &mut self.outcome);
-        env.norms.check_entered(new_facts, world, env.scope, &mut |v| {
+        env.norms.check_entered(new_facts, world, &env.in_force, &mut |v| {
             let cause = match v.soft {
                 Some(found) => soft(env, world, reading, v.kind, v.fact, found),
                 None => Cause::ForbiddenState { fact: v.fact },
@@ -409,6 +458,7 @@ impl Run<'_> {
             let mut attempt = Run {
                 env,
                 reading: self.reading,
+                done: self.done,
                 world: self.world.clone(),
                 outcome: Outcome::default(),
                 stopped: false,
@@ -468,7 +518,13 @@ impl Run<'_> {
             self.world.retract(&fact.substitute(bindings));
         }
         let mut new_facts: smallvec::SmallVec<[Term; 4]> = smallvec::SmallVec::new();
-        for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([did(action)]) {
+        // The reading's own step (the same term, not only an equal one) is already done.
+        let done = if std::ptr::eq(action, self.reading) {
+            self.done.clone()
+        } else {
+            did(action)
+        };
+        for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([done]) {
             if self.world.assert(fact.clone()) {
                 new_facts.push(fact);
             }
@@ -536,15 +592,23 @@ impl Run<'_> {
 /// directive against the forbidden actions; (2) `did(self,action)` against the forbidden states;
 /// (3) whether the verb is known; (4) each step: the step against the forbidden actions, the
 /// states its effects enter, its needs. It goes on past failures so that every reason is found.
-pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> Outcome {
-    simulate_from(env, world.clone(), action).0
+/// Hands back the outcome and `did(self,action)`, the reading as the answer names it.
+pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> (Outcome, Term) {
+    let done = did(action);
+    let (outcome, _) = run_from(env, world.clone(), action, &done);
+    (outcome, done)
 }
 
 /// [`simulate`], handing back the world as the simulation left it, for a next step to start in.
 pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, World) {
+    run_from(env, world, action, &did(action))
+}
+
+fn run_from(env: &Env<'_>, world: World, action: &Term, done: &Term) -> (Outcome, World) {
     let mut run = Run {
         env,
         reading: action,
+        done,
         world,
         outcome: Outcome::default(),
         stopped: false,
@@ -552,10 +616,9 @@ pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, Wo
     run.check_action(action);
     // Check (2) asks about the goal state before any step runs: a hypothetical world in which
     // only `did(self,action)` has been made true, discarded afterwards.
-    let done = did(action);
     if run.world.assert(done.clone()) {
-        run.check_entered(std::slice::from_ref(&done));
-        run.world.retract(&done);
+        run.check_entered(std::slice::from_ref(done));
+        run.world.retract(done);
     }
     run.run(action, true, 0);
     (run.outcome, run.world)
