@@ -7,7 +7,6 @@
 use std::collections::HashSet;
 
 use rustc_hash::FxHashMap;
-
 use serde::{Deserialize, Serialize};
 
 use super::input::{Invalid, normalise_phrase};
@@ -621,6 +620,11 @@ impl Library {
     /// The verb definition for an action term, if the library knows that name at that arity.
     pub fn lookup(&self, action: &Term) -> Option<&ActionDef> {
         self.defs.get(&(action.name()?.clone(), action.arity()))
+    }
+
+    /// Every fact some method makes true, in no order.
+    pub fn adds(&self) -> impl Iterator<Item = &Term> {
+        self.defs.values().flat_map(|def| &def.methods).flat_map(|m| &m.adds)
     }
 
     /// Every verb, by name then arity.

@@ -337,14 +337,12 @@ impl<'a> Env<'a> {
     ) -> Env<'a> {
         // A fact holds in a reading's world only if the scene states it or a step made it true:
         // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
-        let mut made: Vec<(&Sym, usize)> = vec![(did_name(), 2)];
+        let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(did_name(), 2)];
         let mut any = false;
-        for method in library.verbs().into_iter().flat_map(|def| &def.methods) {
-            for fact in &method.adds {
-                match fact.name() {
-                    Some(name) if !fact.is_var() => made.push((name, fact.arity())),
-                    _ => any = true,
-                }
+        for fact in library.adds() {
+            match fact.name() {
+                Some(name) if !fact.is_var() => made.push((name, fact.arity())),
+                _ => any = true,
             }
         }
         let can_hold = |key: &KeyBit| {
