@@ -293,10 +293,7 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
 
 /// `did(self,action)`: the paper's convention for "action is done".
 pub fn did(action: &Term) -> Term {
-    Term::Compound(
-        did_name().clone(),
-        std::sync::Arc::from([DID.1.clone(), action.clone()]),
-    )
+    Term::Compound(DID.0.clone(), std::sync::Arc::from([DID.1.clone(), action.clone()]))
 }
 
 /// `did` and `self`: built once per reading and step, so the two names are looked up once per
@@ -307,10 +304,6 @@ static DID: std::sync::LazyLock<(Sym, Term)> = std::sync::LazyLock::new(|| {
     names.1.make_lasting();
     names
 });
-
-fn did_name() -> &'static Sym {
-    &DID.0
-}
 
 /// Everything a simulation reads; shared by all readings of a request.
 pub struct Env<'a> {
@@ -337,7 +330,7 @@ impl<'a> Env<'a> {
     ) -> Env<'a> {
         // A fact holds in a reading's world only if the scene states it or a step made it true:
         // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
-        let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(did_name(), 2)];
+        let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(&DID.0, 2)];
         let mut any = false;
         for fact in library.adds() {
             match fact.name() {

@@ -234,8 +234,9 @@ impl World {
 
     /// Whether a fact of this functor and arity may hold: `false` only when neither the base
     /// nor this world's additions have one, so that any literal of that key fails.
-    pub fn may_hold(&self, KeyBit { key, word, bit }: &KeyBit) -> bool {
-        self.base.keys[*word] & bit != 0
+    pub fn may_hold(&self, at: &KeyBit) -> bool {
+        let KeyBit { key, bit, .. } = at;
+        self.base.may_have(at)
             || (self.added_keys & bit != 0
                 && match self.added.len() {
                     0 => false,

@@ -227,9 +227,9 @@ impl CompiledNorms {
         }
     }
 
-    /// State norms in force (`in_force`) that `world` meets because of the facts in `new_facts` (just made
-    /// true), handed to `found`: each involves at least one of them, so states the world was
-    /// already in are not reported again. Deterministic: by new fact, then norm id, then solution
+    /// State norms in force (`in_force`) that `world` meets because of the facts in
+    /// `new_facts` (just made true), handed to `found`: each involves at least one of them, so
+    /// states the world was already in are not reported again. Deterministic: by new fact, then norm id, then solution
     /// order. A state reached through two new facts is reported for each (the caller keeps one);
     /// a soft norm stops at its first state, since it counts once.
     pub fn check_entered(
