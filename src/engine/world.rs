@@ -197,25 +197,24 @@ impl World {
         }
     }
 
-    /// A small overlay (a reading changes a fact or two) is scanned rather than hashed into.
     pub fn holds(&self, fact: &Term) -> bool {
+        self.holds_as(fact)
+    }
+
+    /// [`World::holds`] for a ground term under a substitution, without building it.
+    fn holds_bound(&self, fact: Prehashed<'_>) -> bool {
+        self.holds_as(&fact)
+    }
+
+    /// Whether the fact `fact` stands for holds. A small overlay (a reading changes a fact or
+    /// two) is scanned rather than hashed into.
+    fn holds_as<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> bool {
         let in_small = |set: &Facts| match set.len() {
             0 => false,
-            1..=SCAN_AT_MOST => set.iter().any(|f| f == fact),
+            1..=SCAN_AT_MOST => set.iter().any(|f| fact.equivalent(f)),
             _ => set.contains(fact),
         };
         in_small(&self.added) || (self.base.contains(fact) && !in_small(&self.removed))
-    }
-
-    /// [`World::holds`] for a ground term under a substitution, without building it. A small
-    /// overlay (a reading makes a few facts true) is scanned rather than hashed into.
-    fn holds_bound(&self, fact: Prehashed<'_>) -> bool {
-        let in_small = |set: &Facts| match set.len() {
-            0 => false,
-            1..=SCAN_AT_MOST => set.iter().any(|f| fact.bound.equivalent(f)),
-            _ => set.contains(&fact),
-        };
-        in_small(&self.added) || (self.base.contains(&fact) && !in_small(&self.removed))
     }
 
     /// The fact a ground key stands for, as this world holds it; `None` if it does not hold.
