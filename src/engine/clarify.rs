@@ -33,8 +33,9 @@ pub const FEW: usize = 3;
 /// From this many readings on, simulation runs on rayon's pool: a reading costs about 8 µs
 /// (BENCHMARKS.md), so 64 of them outweigh the tens of µs that splitting work across threads costs.
 pub const PARALLEL_FROM: usize = 64;
-/// Readings simulated between two looks at the deadline when running in parallel.
-const PARALLEL_BATCH: usize = 512;
+/// At most this many readings are simulated by one thread between two looks at the deadline
+/// when running in parallel: tens of microseconds of work, against a look that reads a clock.
+const SIMULATE_CHUNK: usize = 64;
 /// From this many readings on, they are described on rayon's pool, a batch per task: a reading
 /// is described in about a microsecond once its objects are, so fewer are not worth a task and
 /// a describer (whose descriptions are then made again) each.
@@ -72,8 +73,8 @@ impl Ord for Score {
 
 /// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
 /// `expired` tells whether the request's deadline has passed (or its client has gone); it is
-/// asked while the readings are described, between batches of readings, and before every step
-/// a plan expands.
+/// asked while the readings are described, before each chunk of them is simulated, and before
+/// every step a plan expands.
 pub fn clarify(
     request: &Request,
     scene: &Scene,
@@ -301,23 +302,19 @@ fn decide_directive(
     let simulate_one = |reading: &mut Interpretation| {
         (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);
     };
-    // Readings are simulated in batches, in the contract's order, with the deadline asked
-    // between batches (the first batch always runs). Many readings go to rayon's pool; each is
-    // independent and lands in its own slot, so the result is the same whatever the threads.
-    let batch = if total >= PARALLEL_FROM { PARALLEL_BATCH } else { 1 };
-    let mut simulated = 0;
-    while simulated < total {
-        if simulated > 0 && expired() {
-            break;
+    // Readings are simulated in the contract's order, with the deadline asked before each
+    // (the first always runs); many go to rayon's pool a chunk at a time. Each is independent
+    // and lands in its own slot, so the result is the same whatever the threads.
+    let simulated = if total >= PARALLEL_FROM {
+        simulate_apart(&mut readings, &simulate_one, expired)
+    } else {
+        let mut simulated = 0;
+        while simulated < total && (simulated == 0 || !expired()) {
+            simulate_one(&mut readings[simulated]);
+            simulated += 1;
         }
-        let end = (simulated + batch).min(total);
-        if total >= PARALLEL_FROM {
-            readings[simulated..end].par_iter_mut().for_each(simulate_one);
-        } else {
-            readings[simulated..end].iter_mut().for_each(simulate_one);
-        }
-        simulated = end;
-    }
+        simulated
+    };
     if facts >= LARGE_BASE {
         // Freeing a large fact base takes milliseconds: done on the pool while the answer is
         // worded, not before it.
@@ -396,6 +393,32 @@ fn decide_directive(
         plan = decide(options, &readings, &slots, false);
     }
     Ok(finish(plan, readings, limits, &mut describer))
+}
+
+/// Simulates `readings` with `one` on rayon's pool, a chunk at a time, and says how many, from
+/// the first, were. The chunks are handed out in the contract's order, one to each thread that
+/// asks, so that a deadline cuts the least likely; each asks the deadline before it starts (the
+/// first always runs), and one that started finishes. A chunk that ran after one skipped (the
+/// deadline passed between two threads' looks) is not counted: what is kept is a prefix.
+fn simulate_apart(
+    readings: &mut [Interpretation],
+    one: &(dyn Fn(&mut Interpretation) + Sync),
+    expired: &(dyn Fn() -> bool + Sync),
+) -> usize {
+    let chunk = (readings.len())
+        .div_ceil(8 * rayon::current_num_threads())
+        .clamp(1, SIMULATE_CHUNK);
+    let mut ran = vec![false; readings.len().div_ceil(chunk)];
+    (readings.chunks_mut(chunk).zip(&mut ran).enumerate())
+        .par_bridge()
+        .for_each(|(n, (chunk, ran))| {
+            if n == 0 || !expired() {
+                chunk.iter_mut().for_each(one);
+                *ran = true;
+            }
+        });
+    let lead = ran.iter().take_while(|&&ran| ran).count();
+    (lead * chunk).min(readings.len())
 }
 
 /// How many of `n` readings one thread describes at a time: a few batches per thread, so that
@@ -523,7 +546,43 @@ fn render(
 mod tests {
     use proptest::prelude::*;
 
+    use super::Interpretation;
+    use crate::engine::simulate::Outcome;
+    use crate::engine::term::Term;
+
+    /// An unsimulated reading of `get(o<object>)`, scored 0.
+    fn reading(object: usize) -> Interpretation {
+        Interpretation {
+            action: Term::compound("get", vec![Term::constant(&format!("o{object}"))]),
+            reading: format!("get the cup (o{object})"),
+            description: format!("the cup (o{object})"),
+            score: 0.0,
+            outcome: Outcome::default(),
+            reason_words: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+
     proptest! {
+        /// Simulating on the pool keeps a prefix, and the chunks go out in order: with the
+        /// deadline passed after `after` looks, about `after` chunks from the first have run,
+        /// whatever the threads (the look for each but the first chunk is its one call).
+        #[test]
+        fn simulating_on_the_pool_keeps_a_prefix_in_order(threads in 1..5usize, after in 0..40usize) {
+            use std::sync::atomic::{AtomicUsize, Ordering};
+            let mut readings: Vec<Interpretation> = (0..4096).map(reading).collect();
+            let looks = AtomicUsize::new(0);
+            let expired = || looks.fetch_add(1, Ordering::Relaxed) >= after;
+            let simulated = |r: &mut Interpretation| r.score = -1.0;
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let kept = pool.install(|| super::simulate_apart(&mut readings, &simulated, &expired));
+            let chunk = super::SIMULATE_CHUNK;
+            prop_assert!(readings[..kept].iter().all(|r| r.score == -1.0), "kept {kept}: not all simulated");
+            prop_assert!(kept >= chunk, "the first chunk always runs: kept {kept}");
+            prop_assert!(kept >= (after + 1).saturating_sub(threads) * chunk, "kept {kept} after {after} looks: chunks out of order");
+            prop_assert!(kept <= (after + 1) * chunk, "kept {kept} after {after} looks");
+        }
+
         /// Whatever the permutation, position `k` ends holding what was at `order[k]`.
         #[test]
         fn permute_puts_each_item_where_the_order_says(order in Just((0..300usize).collect::<Vec<_>>()).prop_shuffle(), len in 0..300usize) {

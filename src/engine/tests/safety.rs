@@ -574,3 +574,42 @@ fn the_decision_is_the_same_whatever_the_thread_count() {
     assert_eq!(one, run_on(4));
     assert_eq!(one, run_on(2));
 }
+
+/// A deadline during a parallel run keeps a prefix of the contract's order, whatever the
+/// threads: the likeliest readings, each as a run without a deadline finds it, and the answer
+/// says how many were simulated.
+#[test]
+fn a_deadline_on_the_pool_keeps_the_likeliest_readings() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let objects = cups_and_plates(40, |i| {
+        obj(&format!("cup{i}"), "cup", &[], &[], [0.5, 0.01 * i as f64, 0.8], None)
+    });
+    let scene = scene(objects, &["fragile(cup3)"]);
+    let norms = norms(&[when(fa("put(X,Y)"), &["fragile(X)"])]);
+    let request = act("put", vec![ty("cup"), ty("plate")]);
+    let library = Library::default_library();
+    let full = clarify(&request, &scene, &norms, &library, &|| false).unwrap();
+    let mut partial = 0;
+    for (threads, after) in [(4, 5), (4, 300), (2, 300), (4, 1500), (1, 300)] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let calls = AtomicUsize::new(0);
+        let expired = || calls.fetch_add(1, Ordering::Relaxed) >= after;
+        let d = pool.install(|| clarify(&request, &scene, &norms, &library, &expired).unwrap());
+        let kept = d.interpretations.len();
+        let limits = d.limits.expect("the deadline passed: the answer says so");
+        assert_eq!(
+            (limits.readings, limits.simulated),
+            (1600, kept),
+            "{threads} threads, after {after}"
+        );
+        let seen = |i: &Interpretation| (i.action.clone(), i.description.clone(), i.outcome.clone());
+        assert_eq!(
+            d.interpretations.iter().map(seen).collect::<Vec<_>>(),
+            full.interpretations[..kept].iter().map(seen).collect::<Vec<_>>(),
+            "{threads} threads, after {after}: not the likeliest {kept}"
+        );
+
+        partial += usize::from(kept > 0);
+    }
+    assert!(partial >= 3, "the deadline left nothing to compare in most runs");
+}
