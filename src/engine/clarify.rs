@@ -459,10 +459,8 @@ fn prepare(
 ) -> Option<Vec<Interpretation>> {
     let describe = |describer: &mut Describer<'_>, (values, score): (Vec<Term>, f64)| {
         let action = template.action(&values);
-        let (description, reading) = describer.described(&action);
         Interpretation {
-            description,
-            reading,
+            description: describer.arguments(&action),
             action,
             score,
             outcome: Outcome::default(),
@@ -554,7 +552,6 @@ mod tests {
     fn reading(object: usize) -> Interpretation {
         Interpretation {
             action: Term::compound("get", vec![Term::constant(&format!("o{object}"))]),
-            reading: format!("get the cup (o{object})"),
             description: format!("the cup (o{object})"),
             score: 0.0,
             outcome: Outcome::default(),

@@ -93,10 +93,9 @@ impl DecisionKind {
 pub struct Interpretation {
     /// `did(self,action)`, ground.
     pub action: Term,
-    /// The arguments in words: "the plastic vase".
+    /// The arguments in words: "the plastic vase"; the reading in words ("get the plastic
+    /// vase") is made from them only for the readings an answer speaks (`speech::reading`).
     pub description: String,
-    /// The reading in words: "get the plastic vase".
-    pub reading: String,
     pub score: f64,
     pub outcome: Outcome,
     /// Each reason of `outcome` in words, in the request's style.

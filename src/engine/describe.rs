@@ -191,7 +191,8 @@ impl<'a> Describer<'a> {
 
     /// The action's arguments in words, joined as its verb joins them ("the cup on the plate").
     pub fn arguments(&mut self, action: &Term) -> String {
-        let mut words = String::new();
+        // Room for the words of a few short descriptions, so that they are not copied as they grow.
+        let mut words = String::with_capacity(64);
         self.arguments_onto(action, &mut words);
         words
     }
@@ -214,24 +215,22 @@ impl<'a> Describer<'a> {
 
     /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
     pub fn reading(&mut self, action: &Term) -> String {
-        self.described(action).1
+        reading_with(action, &self.arguments(action))
     }
+}
 
-    /// The action's [`arguments`](Describer::arguments) and its [`reading`](Describer::reading),
-    /// the arguments described once for both.
-    pub fn described(&mut self, action: &Term) -> (String, String) {
-        // Room for the words of a few short descriptions, so that they are not copied as they grow.
-        let mut args = String::with_capacity(64);
-        self.arguments_onto(action, &mut args);
-        let Some(name) = action.name() else {
-            return (args, action.to_string());
-        };
-        let mut reading = String::with_capacity(name.len() + 1 + args.len());
-        spoken_onto(name, &mut reading);
-        if !args.is_empty() {
-            reading.push(' ');
-            reading.push_str(&args);
-        }
-        (args, reading)
+/// The reading of an action whose arguments are already in words (its
+/// [`arguments`](Describer::arguments)): the same words as [`Describer::reading`], without
+/// describing its objects again.
+pub fn reading_with(action: &Term, arguments: &str) -> String {
+    let Some(name) = action.name() else {
+        return action.to_string();
+    };
+    let mut reading = String::with_capacity(name.len() + 1 + arguments.len());
+    spoken_onto(name, &mut reading);
+    if !arguments.is_empty() {
+        reading.push(' ');
+        reading.push_str(arguments);
     }
+    reading
 }

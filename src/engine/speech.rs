@@ -7,7 +7,7 @@
 use std::borrow::Cow;
 
 use super::decision::{Interpretation, Plan, Style, Unclear};
-use super::describe::Describer;
+use super::describe::{Describer, reading_with};
 use super::norms::Force;
 use super::scene::{spoken, spoken_onto};
 use super::simulate::{Cause, Reason};
@@ -279,7 +279,7 @@ pub fn reason_words(reason: &Reason, style: Style, describer: &mut Describer<'_>
 
 /// `I cannot {reading} because {reason}` (diarc).
 fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
-    format!("I cannot {} because {}", i.reading, diarc_reason(&hard(i), describer))
+    format!("I cannot {} because {}", reading(i), diarc_reason(&hard(i), describer))
 }
 
 /// How firmly a reading is turned down in the natural style, by its first reason: a norm's
@@ -288,12 +288,12 @@ fn natural_refusal(i: &Interpretation, describer: &mut Describer<'_>) -> String 
     let reason = hard(i);
     let why = natural_reason(&reason, describer);
     if !reason.is_norm_violation() {
-        return format!("I can't {}: {why}.", i.reading);
+        return format!("I can't {}: {why}.", reading(i));
     }
     match reason.severity.unwrap_or(3) {
-        1 | 2 => format!("Sorry, I'd rather not {}: {why}.", i.reading),
-        3 => format!("I won't {}: {why}.", i.reading),
-        _ => format!("I will not {}. {}.", i.reading, capitalise(&why)),
+        1 | 2 => format!("Sorry, I'd rather not {}: {why}.", reading(i)),
+        3 => format!("I won't {}: {why}.", reading(i)),
+        _ => format!("I will not {}. {}.", reading(i), capitalise(&why)),
     }
 }
 
@@ -477,13 +477,23 @@ fn dispreferred_words(reasons: &[&Reason], chosen: &Interpretation, describer: &
     listed(&words, "and")
 }
 
+/// A reading in words: "get the plastic vase", its verb spoken and then its description.
+pub(crate) fn reading(i: &Interpretation) -> String {
+    reading_with(action_of(i), &i.description)
+}
+
+/// The action a simulated reading is of: `X` in its `did(self,X)`.
+fn action_of(i: &Interpretation) -> &Term {
+    i.action.args().get(1).unwrap_or(&i.action)
+}
+
 /// A reading as a gerund: "getting the plastic vase".
 fn doing(i: &Interpretation) -> String {
-    let verb = i.action.args().get(1).and_then(Term::name).map(|n| gerund(n));
+    let verb = action_of(i).name().map(|n| gerund(n));
     match (verb, i.description.is_empty()) {
         (Some(verb), true) => verb,
         (Some(verb), false) => format!("{verb} {}", i.description),
-        (None, _) => i.reading.clone(),
+        (None, _) => reading(i),
     }
 }
 
@@ -494,9 +504,9 @@ fn natural_rather_not(dispreferred: &Interpretation, chosen: &Interpretation, de
     let why = dispreferred_words(&reasons, chosen, describer);
     let strength = (reasons.iter()).filter_map(|r| r.severity).max().unwrap_or(3);
     match strength {
-        1 | 2 => format!("I'd slightly prefer not to {}: {why}.", dispreferred.reading),
-        3 => format!("I'd rather not {}: {why}.", dispreferred.reading),
-        _ => format!("I really shouldn't {}: {why}.", dispreferred.reading),
+        1 | 2 => format!("I'd slightly prefer not to {}: {why}.", reading(dispreferred)),
+        3 => format!("I'd rather not {}: {why}.", reading(dispreferred)),
+        _ => format!("I really shouldn't {}: {why}.", reading(dispreferred)),
     }
 }
 
@@ -527,7 +537,7 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
             .map(|&i| match all[i].acceptable() {
                 true => format!(
                     " I would rather not {} because {}.",
-                    all[i].reading,
+                    reading(&all[i]),
                     dispreferred_words(&dispreferred_reasons(&all[i], &all[chosen]), &all[chosen], describer)
                 ),
                 false => format!(" {}.", diarc_cannot(&all[i], describer)),
@@ -541,7 +551,7 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
         },
         Plan::Refuse(i) => format!("{}.", diarc_cannot(&all[*i], describer)),
         Plan::Ask { offered, more } => {
-            let readings: Vec<&str> = offered.iter().map(|&i| all[i].reading.as_str()).collect();
+            let readings: Vec<String> = offered.iter().map(|&i| reading(&all[i])).collect();
             let tail = if *more { " or something else" } else { "" };
             format!(
                 "Do you mean that you want me to {}{tail}?",
@@ -551,12 +561,12 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
         Plan::AskWhich { nouns } => format!("I do not know {} you mean.", which(nouns).join(" and ")),
         Plan::Assume { chosen, others: rest } => format!(
             "I am assuming you want me to {}.{}",
-            all[*chosen].reading,
+            reading(&all[*chosen]),
             others(*chosen, rest, describer)
         ),
         Plan::Confirm { chosen, others: rest } => format!(
             "Do you want me to {}?{}",
-            all[*chosen].reading,
+            reading(&all[*chosen]),
             others(*chosen, rest, describer)
         ),
         Plan::Explain(which) => {
@@ -600,9 +610,9 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
     match plan {
         Plan::Comply(i) => match although(&all[*i], describer) {
             // A strong "should not" is put plainly; a mild one as an aside.
-            Some((why, 4..)) => format!("Okay, I will {}, but you should know that {why}.", all[*i].reading),
-            Some((why, _)) => format!("Okay, I will {}, although {why}.", all[*i].reading),
-            None => format!("Okay, I will {}.", all[*i].reading),
+            Some((why, 4..)) => format!("Okay, I will {}, but you should know that {why}.", reading(&all[*i])),
+            Some((why, _)) => format!("Okay, I will {}, although {why}.", reading(&all[*i])),
+            None => format!("Okay, I will {}.", reading(&all[*i])),
         },
         Plan::Refuse(i) => natural_refusal(&all[*i], describer),
         Plan::Ask { offered, more } => {
@@ -616,7 +626,7 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
                     format!("{} ", spoken(action.name().map(|n| &**n).unwrap_or_default())),
                     offered.iter().map(|&i| all[i].description.clone()).collect(),
                 ),
-                _ => (String::new(), offered.iter().map(|&i| all[i].reading.clone()).collect()),
+                _ => (String::new(), offered.iter().map(|&i| reading(&all[i])).collect()),
             };
             if *more {
                 items.push("something else".to_owned());
@@ -625,10 +635,14 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
         }
         Plan::AskWhich { nouns } => format!("{} do you mean?", capitalise(&listed(&which(nouns), "and"))),
         Plan::Assume { chosen, others: rest } => {
-            format!("I'll {}.{}", all[*chosen].reading, others(*chosen, rest, describer))
+            format!("I'll {}.{}", reading(&all[*chosen]), others(*chosen, rest, describer))
         }
         Plan::Confirm { chosen, others: rest } => {
-            format!("Should I {}?{}", all[*chosen].reading, others(*chosen, rest, describer))
+            format!(
+                "Should I {}?{}",
+                reading(&all[*chosen]),
+                others(*chosen, rest, describer)
+            )
         }
         Plan::Explain(which) => natural_grouped(which, all, describer).unwrap_or_else(|| {
             which

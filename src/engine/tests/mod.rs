@@ -14,6 +14,7 @@ use super::norms::{CompiledNorms, Norm, NormInput};
 use super::request::{DEFAULT_MAX_SPOKEN, Directive, Options, Request, SinglePermissible, Strategy as ClarifyStrategy};
 use super::resolve::{Candidate, Reference};
 use super::scene::{Agent, Object, Scene, Shape};
+use super::speech;
 use super::term::{Sym, Term};
 
 use DecisionKind::{Ask, Assume, Comply, Confirm, Explain, NotUnderstood, Refuse, Unresolved};

@@ -285,7 +285,7 @@ fn many_readings_keep_their_own_words_in_the_contracts_order() {
     for i in &decision.interpretations {
         let action = &i.action.args()[1];
         assert_eq!(i.description, describer.arguments(action), "{}", i.action);
-        assert_eq!(i.reading, describer.reading(action), "{}", i.action);
+        assert_eq!(speech::reading(i), describer.reading(action), "{}", i.action);
     }
     let key = |i: &Interpretation| (i.description.clone(), i.action.to_string());
     assert!(

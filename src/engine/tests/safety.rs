@@ -235,7 +235,7 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
         }
         Comply => prop_assert_eq!(d.utterance.as_str(), "Okay."),
         Refuse => {
-            let prefix = format!("I cannot {} because ", all[0].reading);
+            let prefix = format!("I cannot {} because ", speech::reading(&all[0]));
             prop_assert!(d.utterance.starts_with(&prefix), "{}", d.utterance);
         }
         Ask => {
@@ -262,7 +262,7 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
                     .take(offered.len())
                     .eq(offered.iter().map(|i| &i.action))
             );
-            let readings: Vec<&str> = offered.iter().map(|i| i.reading.as_str()).collect();
+            let readings: Vec<String> = offered.iter().map(|i| speech::reading(i)).collect();
             if good.len() <= DEFAULT_MAX_SPOKEN {
                 prop_assert_eq!(offered.len(), good.len());
                 let question = format!(
@@ -286,8 +286,8 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
         }
         Assume | Confirm => {
             let first = match d.kind {
-                Assume => format!("I am assuming you want me to {}.", good[0].reading),
-                _ => format!("Do you want me to {}?", good[0].reading),
+                Assume => format!("I am assuming you want me to {}.", speech::reading(good[0])),
+                _ => format!("Do you want me to {}?", speech::reading(good[0])),
             };
             prop_assert!(d.utterance.starts_with(&first), "{}", d.utterance);
             // Every other reading, in order: dispreferred ones would rather not be done, the
@@ -295,8 +295,8 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             let mut at = first.len();
             for other in all.iter().filter(|i| i.action != good[0].action) {
                 let sentence = match other.permissible() && other.feasible() {
-                    true => format!(" I would rather not {} because ", other.reading),
-                    false => format!(" I cannot {} because ", other.reading),
+                    true => format!(" I would rather not {} because ", speech::reading(other)),
+                    false => format!(" I cannot {} because ", speech::reading(other)),
                 };
                 prop_assert!(
                     d.utterance[at..].starts_with(&sentence),
@@ -314,9 +314,9 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             let mut at = 0;
             for (n, i) in all.iter().enumerate() {
                 let clause = if n == 0 {
-                    format!("I believe that I cannot {} because ", i.reading)
+                    format!("I believe that I cannot {} because ", speech::reading(i))
                 } else {
-                    format!(" and that I cannot {} because ", i.reading)
+                    format!(" and that I cannot {} because ", speech::reading(i))
                 };
                 match d.utterance[at..].find(&clause) {
                     Some(p) => at += p + clause.len(),
