@@ -3,6 +3,8 @@
 //! Owns: the types Algorithm 1 (`clarify`) produces and the words (`speech`) render, so that
 //! neither has to import the other for them. Must not: decide or word anything itself.
 
+use rayon::prelude::*;
+
 use super::input::Spelled;
 use super::simulate::Outcome;
 use super::term::Term;
@@ -172,6 +174,23 @@ pub struct Decision {
     /// What the human's words were understood as, when the directive came in words.
     pub parse: Option<Understood>,
 }
+
+impl Drop for Decision {
+    /// A decision of many readings is freed on rayon's pool, in parallel: its readings were
+    /// made there, and freeing them one by one on the caller's thread took a tenth of the
+    /// time a 10,000-reading decision took to make.
+    fn drop(&mut self) {
+        if self.interpretations.len() >= FREE_APART_FROM {
+            std::mem::take(&mut self.interpretations)
+                .into_par_iter()
+                .with_min_len(FREE_APART_FROM / 4)
+                .for_each(drop);
+        }
+    }
+}
+
+/// From this many readings on, a decision is freed on rayon's pool.
+const FREE_APART_FROM: usize = 2048;
 
 /// How words were read: the act they perform, after the pragmatic rules.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -198,9 +198,9 @@ fn the_paper_in_words_decides_as_the_structured_directive() {
         assert_eq!(words.speech_act, structured.speech_act, "{text}");
         assert_eq!(words.goal, structured.goal, "{text}");
         assert_eq!(words.interpretations, structured.interpretations, "{text}");
-        let parse = words.parse.expect("a parse");
+        let parse = words.parse.as_ref().expect("a parse");
         assert_eq!(
-            parse.form.unwrap().to_string(),
+            parse.form.as_ref().unwrap().to_string(),
             format!(
                 "want(human,did(self,{}(X)))",
                 if text.starts_with("Get") { "get" } else { "destroy" }
@@ -336,7 +336,7 @@ fn follow_up_answers_in_words() {
     ] {
         let d = pick(answer);
         assert_eq!(
-            d.goal.map(|g| g.to_string()).as_deref(),
+            d.goal.as_ref().map(|g| g.to_string()).as_deref(),
             Some(goal),
             "{answer}: {}",
             d.utterance
@@ -352,7 +352,7 @@ fn follow_up_answers_in_words() {
     };
     let yes = confirm("yes");
     assert_eq!(yes.kind, DecisionKind::Comply);
-    assert_eq!(yes.goal.unwrap().to_string(), "did(self,get(object4))");
+    assert_eq!(yes.goal.as_ref().unwrap().to_string(), "did(self,get(object4))");
     let no = confirm("No.");
     assert_eq!(no.kind, DecisionKind::NotUnderstood);
     assert_eq!(no.utterance, "Okay, I will not. What would you like me to do instead?");
