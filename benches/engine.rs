@@ -6,7 +6,6 @@
 //! per-request caches (reach, clearance) are warm after the first iteration.
 
 use std::hint::black_box;
-use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
@@ -221,7 +220,8 @@ fn bench_world_copy(c: &mut Criterion) {
                 ),
             ]
         });
-        let world = World::new(Arc::new(Base::new(facts)));
+        let base = Base::new(facts);
+        let world = World::new(&base);
         group.bench_with_input(BenchmarkId::from_parameter(count), &world, |b, world| {
             b.iter(|| black_box(world.clone()))
         });

@@ -4,7 +4,6 @@
 //! simulating the steps in order in one private world, each starting where the last left off.
 //! Must not: resolve references or choose among readings; the steps are ground.
 
-use std::sync::Arc;
 use std::time::Duration;
 
 use super::action::{Library, verb_name};
@@ -123,10 +122,10 @@ pub fn check(
     style: Style,
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Check {
-    let base = Arc::new(Base::new(scene.all_facts()));
+    let base = Base::new(scene.all_facts());
     let env = Env::new(scene, norms, library, scope, &base, expired);
     let mut describer = Describer::new(scene, library);
-    let mut world = World::new(base);
+    let mut world = World::new(&base);
     let mut checked = Vec::with_capacity(steps.len());
     for step in steps {
         // Past the deadline no further step is begun: the check says how far it got.

@@ -10,7 +10,6 @@
 use std::cmp::Reverse;
 
 use rayon::prelude::*;
-use std::sync::Arc;
 
 use super::action::Library;
 use super::algorithm::{decide, kept, plan_kind};
@@ -288,37 +287,38 @@ fn decide_directive(
     }
     permute(&mut readings, order);
 
-    let base = Arc::new(Base::new(scene.all_facts()));
-    let facts = base.len();
+    let base = Base::new(scene.all_facts());
     let scope = Scope {
         context: &request.context,
         roles: &request.speaker_roles,
         // The reflexive strategy ignores soft norms as it ignores all norms.
         soft: options.strategy == Strategy::Moral && options.soft_norms == SoftNorms::Rank,
     };
-    let env = Env::new(scene, norms, library, scope, &base, expired);
-    let world = World::new(base);
     let total = readings.len();
-    let simulate_one = |reading: &mut Interpretation| {
-        (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);
-    };
-    // Readings are simulated in the contract's order, with the deadline asked before each
-    // (the first always runs); many go to rayon's pool a chunk at a time. Each is independent
-    // and lands in its own slot, so the result is the same whatever the threads.
-    let simulated = if total >= PARALLEL_FROM {
-        simulate_apart(&mut readings, &simulate_one, expired)
-    } else {
-        let mut simulated = 0;
-        while simulated < total && (simulated == 0 || !expired()) {
-            simulate_one(&mut readings[simulated]);
-            simulated += 1;
+    let simulated = {
+        let env = Env::new(scene, norms, library, scope, &base, expired);
+        let world = World::new(&base);
+        let simulate_one = |reading: &mut Interpretation| {
+            (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);
+        };
+        // Readings are simulated in the contract's order, with the deadline asked before each
+        // (the first always runs); many go to rayon's pool a chunk at a time. Each is
+        // independent and lands in its own slot, so the result is the same whatever the threads.
+        if total >= PARALLEL_FROM {
+            simulate_apart(&mut readings, &simulate_one, expired)
+        } else {
+            let mut simulated = 0;
+            while simulated < total && (simulated == 0 || !expired()) {
+                simulate_one(&mut readings[simulated]);
+                simulated += 1;
+            }
+            simulated
         }
-        simulated
     };
-    if facts >= LARGE_BASE {
+    if base.len() >= LARGE_BASE {
         // Freeing a large fact base takes milliseconds: done on the pool while the answer is
         // worded, not before it.
-        rayon::spawn(move || drop(world));
+        rayon::spawn(move || drop(base));
     }
     // Readings the deadline cut short mid-plan are not simulated: only those finished before
     // the first such one are kept, in the contract's order. A lone reading cut short is kept,

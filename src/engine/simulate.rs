@@ -352,20 +352,20 @@ impl<'a> Env<'a> {
     }
 }
 
-struct Run<'a> {
+struct Run<'a, 'b> {
     env: &'a Env<'a>,
     /// The reading's own action: a soft reason's words name only facts about its objects.
     reading: &'a Term,
     /// `did(self,reading)`, made once: the goal state checked first and the fact the reading's
     /// own step makes true.
     done: &'a Term,
-    world: World,
+    world: World<'b>,
     outcome: Outcome,
     /// Set once `expired` said so: nothing more is expanded.
     stopped: bool,
 }
 
-impl Run<'_> {
+impl Run<'_, '_> {
     fn stop(&mut self) {
         self.stopped = true;
         self.push(Reason::unfinished());
@@ -444,7 +444,7 @@ impl Run<'_> {
         // Several methods: each is tried from the same world. The first that meets no reason is
         // the plan; when none does, the reading carries the reasons of every method tried and
         // goes on in the world of the first.
-        let mut tried: Vec<Run<'_>> = Vec::with_capacity(def.methods.len());
+        let mut tried: Vec<Run<'_, '_>> = Vec::with_capacity(def.methods.len());
         for method in &def.methods {
             let mut attempt = Run {
                 env,
@@ -591,11 +591,11 @@ pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> (Outcome, Term) 
 }
 
 /// [`simulate`], handing back the world as the simulation left it, for a next step to start in.
-pub fn simulate_from(env: &Env<'_>, world: World, action: &Term) -> (Outcome, World) {
+pub fn simulate_from<'b>(env: &Env<'_>, world: World<'b>, action: &Term) -> (Outcome, World<'b>) {
     run_from(env, world, action, &did(action))
 }
 
-fn run_from(env: &Env<'_>, world: World, action: &Term, done: &Term) -> (Outcome, World) {
+fn run_from<'b>(env: &Env<'_>, world: World<'b>, action: &Term, done: &Term) -> (Outcome, World<'b>) {
     let mut run = Run {
         env,
         reading: action,
