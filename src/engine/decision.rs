@@ -177,7 +177,7 @@ pub struct Decision {
 
 impl Drop for Decision {
     /// A decision of many readings is freed on rayon's pool, in parallel: its readings were
-    /// made there, and freeing them one by one on the caller's thread took a tenth of the
+    /// made there, and freeing them one by one on the caller's thread took an eighth of the
     /// time a 10,000-reading decision took to make.
     fn drop(&mut self) {
         if self.interpretations.len() >= FREE_APART_FROM {
