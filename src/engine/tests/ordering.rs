@@ -322,3 +322,35 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// Many more readings than candidates, so each slot's candidates are put in order before the
+    /// readings are made: whatever the candidates' scores and the order the form takes its
+    /// variables in, every reading is there once and they stand in the contract's order.
+    #[test]
+    fn many_scored_readings_stand_in_the_contracts_order(
+        scores in prop::collection::vec(0..3usize, 32),
+        variables in prop::sample::select(vec!["did(self,put(X,Y))", "did(self,put(Y,X))", "put(X,Y)"]),
+    ) {
+        let objects = cups_and_plates(16, |i| {
+            let fragile: &[&str] = if i % 5 == 0 { &["fragile"] } else { &[] };
+            obj(&format!("cup{i}"), "cup", fragile, &[], [0.5, 0.01 * i as f64, 0.8], None)
+        });
+        let scene = scene(objects, &[]);
+        let score = |k: usize| [0.25, 0.5, 1.0][scores[k]];
+        let cups: Vec<(String, f64)> = (0..16).map(|i| (format!("cup{i}"), score(i))).collect();
+        let plates: Vec<(String, f64)> = (0..16).rev().map(|i| (format!("plate{i}"), score(16 + i))).collect();
+        fn listed(candidates: &[(String, f64)]) -> Vec<(&str, f64)> {
+            candidates.iter().map(|(id, score)| (id.as_str(), *score)).collect()
+        }
+        let request = form_scored(variables, &[("X", &listed(&cups)), ("Y", &listed(&plates))]);
+        let decision = clarify(&request, &scene, &norms(&[]), &Library::default_library(), &|| false).unwrap();
+        let actions: std::collections::BTreeSet<String> = decision.interpretations.iter().map(|i| i.action.to_string()).collect();
+        prop_assert_eq!((decision.interpretations.len(), actions.len()), (256, 256));
+        let key = |i: &Interpretation| (std::cmp::Reverse(i.score.to_bits()), i.description.clone(), i.action.to_string());
+        prop_assert!(
+            decision.interpretations.windows(2).all(|w| key(&w[0]) <= key(&w[1])),
+            "not in the contract's order"
+        );
+    }
+}
