@@ -275,8 +275,7 @@ fn decide_directive(
     let mut order: Vec<usize> = (0..readings.len()).collect();
     let contract = |&a: &usize, &b: &usize| {
         let (a, b) = (&readings[a], &readings[b]);
-        (Reverse(Score(a.score)).cmp(&Reverse(Score(b.score))))
-            .then_with(|| a.description.cmp(&b.description))
+        (contract_key(a.score, &a.description).cmp(&contract_key(b.score, &b.description)))
             // Two readings described alike are rare: only they are printed.
             .then_with(|| a.action.to_string().cmp(&b.action.to_string()))
     };
@@ -410,13 +409,14 @@ fn presort(slots: &mut [Slot], describer: &mut Describer<'_>) {
         return;
     }
     for slot in slots {
-        let mut keyed: Vec<(Reverse<Score>, String, (Term, f64))> = (std::mem::take(&mut slot.candidates))
-            .into_iter()
-            .map(|candidate| (Reverse(Score(candidate.1)), describer.argument(&candidate.0), candidate))
-            .collect();
-        keyed.sort_by(|a, b| (a.0.cmp(&b.0)).then_with(|| a.1.cmp(&b.1)));
-        slot.candidates = keyed.into_iter().map(|(_, _, candidate)| candidate).collect();
+        (slot.candidates).sort_by_cached_key(|(value, score)| contract_key(*score, describer.argument(value)));
     }
+}
+
+/// What the contract orders readings by before the action as written: score, highest first,
+/// then words.
+fn contract_key<W: Ord>(score: f64, words: W) -> (Reverse<Score>, W) {
+    (Reverse(Score(score)), words)
 }
 
 /// Simulates `readings` with `one` on rayon's pool, a chunk at a time, and says how many, from
