@@ -29,9 +29,12 @@ use super::world::{Base, World};
 
 /// How many of the likeliest readings are named when there are too many to name them all.
 pub const FEW: usize = 3;
-/// From this many readings on, simulation runs on rayon's pool: a reading costs about 8 µs
-/// (BENCHMARKS.md), so 64 of them outweigh the tens of µs that splitting work across threads costs.
-pub const PARALLEL_FROM: usize = 64;
+/// From this many readings on, simulation (and the sort) runs on rayon's pool. A reading costs
+/// about 2 µs at 1,000 objects, and handing work to the pool costs a wake-up and the other core
+/// reading the fact base into its cache: 100 readings took longer on two threads than on one,
+/// 200 slightly less (BENCHMARKS.md, fifteenth sitting). Below this, one thread also spends less
+/// CPU, which a loaded server needs more than the microseconds.
+pub const PARALLEL_FROM: usize = 128;
 /// At most this many readings are simulated by one thread between two looks at the deadline
 /// when running in parallel: tens of microseconds of work, against a look that reads a clock.
 const SIMULATE_CHUNK: usize = 64;
