@@ -5,8 +5,9 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
@@ -447,27 +448,45 @@ static POOL_COLLECTS: AtomicBool = AtomicBool::new(false);
 /// Called as a runtime thread goes idle: hands what its heap holds free back to the OS, at most
 /// once a [`COLLECT_EVERY`], so that RSS falls back after a burst without costing each request
 /// (a busy thread rarely parks, a quiet one is woken each second by the readiness probe). In
-/// `serve`, rayon's threads are asked to do the same: they never park through here, and after a
-/// burst of large decisions their heaps held the blocks other threads had freed into them (no
-/// thread collects those but the owner) until their next decision: RSS 10 s after a heavy burst
-/// 24-29 MiB without, 21-22 MiB with, idle 19 (BENCHMARKS.md, fifteenth sitting).
+/// `serve`, rayon's threads are asked to do the same ([`pool_collect_due`]): they never park
+/// through here, and after a burst of large decisions their heaps held the blocks other threads
+/// had freed into them (no thread collects those but the owner) until their next decision: RSS
+/// 10 s after a heavy burst 24-29 MiB without, 21-22 MiB with, idle 19 (BENCHMARKS.md, fifteenth
+/// sitting).
 fn give_back_when_idle() {
     thread_local! {
-        static LAST: std::cell::Cell<Option<std::time::Instant>> = const { std::cell::Cell::new(None) };
+        static LAST: std::cell::Cell<Option<Instant>> = const { std::cell::Cell::new(None) };
     }
     LAST.with(|last| {
-        let now = std::time::Instant::now();
+        let now = Instant::now();
         if last.get().is_none_or(|at| now.duration_since(at) >= COLLECT_EVERY) {
             last.set(Some(now));
             // SAFETY: mi_collect frees only memory no live allocation uses.
             unsafe { libmimalloc_sys::mi_collect(true) };
-            if POOL_COLLECTS.load(Ordering::Relaxed) {
+            if POOL_COLLECTS.load(Ordering::Relaxed) && pool_collect_due(now) {
                 // Queued behind any decision the pool is running; this thread does not wait.
                 // SAFETY: as above, on each of the pool's threads, for its own heap.
                 rayon::spawn_broadcast(|_| unsafe { libmimalloc_sys::mi_collect(true) });
             }
         }
     });
+}
+
+/// Whether the runtime thread calling it is the one to ask rayon's pool to collect: at most one
+/// ask a [`COLLECT_EVERY`] for the whole process, whichever runtime thread parks first. The ask
+/// wakes every pool thread, so asking once a second from each runtime thread (as each collects
+/// its own heap) would wake the whole pool once a second per runtime thread, for the same work.
+fn pool_collect_due(now: Instant) -> bool {
+    /// When the pool was last asked. Only runtime threads that have just collected come here,
+    /// each at most once a second, so the lock is all but never contended; a thread that finds it
+    /// held leaves the ask to the holder.
+    static ASKED: Mutex<Option<Instant>> = Mutex::new(None);
+    let Ok(mut asked) = ASKED.try_lock() else { return false };
+    let due = asked.is_none_or(|at| now.saturating_duration_since(at) >= COLLECT_EVERY);
+    if due {
+        *asked = Some(now);
+    }
+    due
 }
 
 /// The server's memory in 4 KiB pages, never transparent huge ones. mimalloc asks for huge
