@@ -24,20 +24,7 @@ start() { # name binary: starts a server with the paper's norms, echoes "pid add
 read -r pid_a addr_a < <(start a "$a")
 read -r pid_b addr_b < <(start b "$b")
 pids+=("$pid_a" "$pid_b")
-python3 - "$addr_a" "$addr_b" "$work" "$body" <<'PY'
-import json, sys, urllib.request
-*addrs, work, body = sys.argv[1:]
-demo = json.load(open("../shared/scenarios/paper-demo.json"))
-for addr in addrs:
-    for norm in demo["norms"]:
-        urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
-directive = {"text": "Get the vase."}
-if body == "structured":
-    directive = {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}
-open(f"{work}/body.json", "w").write(json.dumps({"directive": directive, "scene": demo["scenes"]["lab"]}))
-open(f"{work}/body.lua", "w").write(f'wrk.method = "POST"\nwrk.headers["content-type"] = "application/json"\n'
-                                    f'local f = io.open("{work}/body.json"); wrk.body = f:read("*a"); f:close()\n')
-PY
+paper_wrk "$work" "$body" "$addr_a" "$addr_b"
 measure() { # pid addr -> "user_us system_us requests_per_s"
   local u0 s0 u1 s1 rps
   read -r u0 s0 < <(awk '{print $14, $15}' "/proc/$1/stat")

@@ -8,3 +8,23 @@ listening_addr() {
   addr=$(sed -n 's/^listening on //p' "$out")
   [ -n "$addr" ] && echo "$addr"
 }
+
+# paper_wrk WORK structured|text ADDR...: stores the paper's norms on each server at ADDR and
+# writes WORK/body.json (the paper's "Get the vase." in the lab scene, the directive structured
+# or as text) and WORK/body.lua (wrk posting it), for the load scripts beside this one.
+paper_wrk() {
+  python3 - "$@" <<'PY'
+import json, sys, urllib.request
+work, body, *addrs = sys.argv[1:]
+demo = json.load(open("../shared/scenarios/paper-demo.json"))
+for addr in addrs:
+    for norm in demo["norms"]:
+        urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
+directive = {"text": "Get the vase."}
+if body == "structured":
+    directive = {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}
+open(f"{work}/body.json", "w").write(json.dumps({"directive": directive, "scene": demo["scenes"]["lab"]}))
+open(f"{work}/body.lua", "w").write(f'wrk.method = "POST"\nwrk.headers["content-type"] = "application/json"\n'
+                                    f'local f = io.open("{work}/body.json"); wrk.body = f:read("*a"); f:close()\n')
+PY
+}

@@ -19,19 +19,7 @@ work=$(mktemp -d)
 pid=$!
 trap 'kill $pid 2>/dev/null || true; rm -rf "$work"' EXIT
 addr=$(listening_addr "$work/out") || { cat "$work/err" >&2; exit 1; }
-python3 - "$addr" "$work" "$body" <<'PY'
-import json, sys, urllib.request
-addr, work, body = sys.argv[1:]
-demo = json.load(open("../shared/scenarios/paper-demo.json"))
-for norm in demo["norms"]:
-    urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
-directive = {"text": "Get the vase."}
-if body == "structured":
-    directive = {"action": "get", "arguments": [{"type": "vase"}], "text": "Get the vase."}
-open(f"{work}/body.json", "w").write(json.dumps({"directive": directive, "scene": demo["scenes"]["lab"]}))
-open(f"{work}/body.lua", "w").write(f'wrk.method = "POST"\nwrk.headers["content-type"] = "application/json"\n'
-                                    f'local f = io.open("{work}/body.json"); wrk.body = f:read("*a"); f:close()\n')
-PY
+paper_wrk "$work" "$body" "$addr"
 snapshot() { # -> lines "tid name cpu_ns voluntary involuntary"
   local t
   for t in /proc/"$pid"/task/*; do
