@@ -5,7 +5,9 @@
 # Each row is $ROUNDS rounds (default 3) of Scruple then the floor, in turn; it shows the medians
 # and the median of the rounds' ratios. RSS sampled under load. Prints a Markdown table for
 # BENCHMARKS.md. Installs wrk and h2load (Debian's nghttp2-client) when missing. Traffic stays on
-# 127.0.0.1. $SCRUPLE_BIN names another server binary to measure (default the release build).
+# 127.0.0.1. $SCRUPLE_BIN names another server binary to measure (default the release build;
+# target/pgo/scruple after scripts/pgo-build.sh is what the image ships). gRPC's body is REST's
+# structured one, converted by examples/grpc_body.
 # Usage: scripts/bench-load.sh [SECONDS per run, default 10]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -47,7 +49,7 @@ for name, body in bodies.items():
     answer = json.load(urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/clarify", json.dumps(body).encode(), {"content-type": "application/json"})))
     assert answer["decision"] == "assume", answer
 PY
-target/release/examples/grpc_body "$work/body.grpc"
+target/release/examples/grpc_body "$work/structured.json" "$work/body.grpc"
 for body in structured text; do
   cat >"$work/$body.lua" <<LUA
 wrk.method = "POST"

@@ -7,7 +7,8 @@
 //! health check really answer on the real binary started with the ConfigMap's and Secret's values;
 //! a non-root numeric user in both the image and the pod; every ConfigMap/Secret reference resolves
 //! and every key is read; Secrets hold only placeholders; the kustomization lists every manifest but
-//! the PostgreSQL example; the image builds the locked binary with a new enough toolchain.
+//! the PostgreSQL example; the image builds the locked binary, profile-guided, with a new enough
+//! toolchain, from a context that holds what the training reads.
 //!
 //! Nothing here builds an image or talks to a cluster: it reads the files and runs the binary.
 
@@ -808,9 +809,35 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
     assert!(
         docker.iter().any(|i| i.keyword == "RUN"
             && i.stage == builder.stage
-            && i.args.contains("cargo build --release --locked --bin scruple")),
-        "deploy/Dockerfile: the builder should run `cargo build --release --locked --bin scruple`"
+            && i.args.contains("scripts/pgo-build.sh /out/scruple")),
+        "deploy/Dockerfile: the builder should run `scripts/pgo-build.sh /out/scruple` (the profile-guided build)"
     );
+    let script = read(&repo().join("scripts/pgo-build.sh"));
+    assert_eq!(
+        script
+            .matches("cargo build --release --locked --quiet --bin scruple")
+            .count(),
+        2,
+        "scripts/pgo-build.sh should build the locked server twice (instrumented, then optimised)"
+    );
+    // What the script reads beyond the build's sources must be copied into the builder (the check
+    // below keeps `.dockerignore` from leaving it out of the context).
+    for needed in [
+        "scripts/pgo-build.sh",
+        "scripts/lib.sh",
+        "examples/grpc_body.rs",
+        "tests/golden/corpus.jsonl",
+    ] {
+        assert!(
+            docker
+                .iter()
+                .any(|i| i.keyword == "COPY" && i.stage == builder.stage && {
+                    let source = i.args.split_whitespace().next().unwrap_or("");
+                    needed == source || needed.starts_with(&format!("{}/", source.trim_end_matches('/')))
+                }),
+            "deploy/Dockerfile: the builder does not copy {needed}, which the profile-guided build needs"
+        );
+    }
 
     let runtime = final_stage(&docker);
     let entrypoint = only(&runtime, "ENTRYPOINT");
@@ -837,13 +864,24 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
         );
     }
 
-    // What the builder copies must exist and must not be cut from the context by .dockerignore.
-    let ignored: Vec<String> = read(&repo().join(".dockerignore"))
+    // What the builder copies must exist and must not be cut from the context by .dockerignore,
+    // where the last line naming a path or a folder above it wins, and `!` lets it back in.
+    let ignore: Vec<(bool, String)> = read(&repo().join(".dockerignore"))
         .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty() && !l.starts_with('#'))
-        .map(|l| l.trim_end_matches('/').to_owned())
+        .map(|l| match l.strip_prefix('!') {
+            Some(back) => (false, back.trim_end_matches('/').to_owned()),
+            None => (true, l.trim_end_matches('/').to_owned()),
+        })
         .collect();
+    let ignored = |source: &str| {
+        ignore
+            .iter()
+            .rev()
+            .find(|(_, p)| source == p || source.starts_with(&format!("{p}/")))
+            .is_some_and(|(out, _)| *out)
+    };
     for copy in docker
         .iter()
         .filter(|i| i.keyword == "COPY" && !i.args.contains("--from"))
@@ -856,9 +894,7 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
                 copy.line
             );
             assert!(
-                !ignored
-                    .iter()
-                    .any(|i| source == i || source.starts_with(&format!("{i}/"))),
+                !ignored(source),
                 "deploy/Dockerfile:{}: COPY {source}, which .dockerignore leaves out of the build context",
                 copy.line
             );
