@@ -429,10 +429,6 @@ async fn shutdown_signal() {
     tracing::info!("shutting down: draining in-flight requests until the drain deadline");
 }
 
-/// mimalloc's `mi_option_purge_delay` (`include/mimalloc.h` of the vendored v2 and v3 alike),
-/// which the Rust bindings do not name.
-const MI_OPTION_PURGE_DELAY: std::ffi::c_int = 15;
-
 /// How long an idle thread of the blocking pool (costly decisions, large answers) is kept:
 /// short, so that after a burst of heavy requests the threads and what their heaps held go.
 const BLOCKING_KEEP_ALIVE: Duration = Duration::from_secs(1);
@@ -508,15 +504,14 @@ fn no_huge_pages() {
 fn no_huge_pages() {}
 
 fn main() -> ExitCode {
-    // A server's freed memory goes back to the OS at once, not 10 ms later: a thread that has
-    // just finished a heavy decision is often idle after it, and an idle thread's heap is never
-    // purged late. The offline commands keep mimalloc's delay: a replay frees and takes again
-    // without pause, and purging at once made it fault its pages back in (system time was up
-    // to as much as user time).
+    // Freed pages go back to the OS after mimalloc's own delay (10 ms), as in the offline
+    // commands, and all at once when a runtime thread parks (`give_back_when_idle`), which is
+    // what brings RSS down after a burst. Not at once on every free: a size class whose live
+    // blocks hover at a page's edge then gives the page back and faults it in again on every
+    // request, and the server fell into that under gRPC load in a fifth of the rounds, at a
+    // third of its throughput (BENCHMARKS.md, seventeenth sitting).
     let cli = Cli::parse();
     if matches!(cli.command, Command::Serve(_)) {
-        // SAFETY: sets an option before any thread but this one allocates.
-        unsafe { libmimalloc_sys::mi_option_set(MI_OPTION_PURGE_DELAY, 0) };
         no_huge_pages();
         // rayon's global pool, as the engine would start it on its first large decision, but
         // here, where a failure is an error message rather than a panic on a runtime thread.
