@@ -13,8 +13,9 @@
 #  2. the server stopped with SIGINT (it drains and exits, writing its profile), the profile
 #     merged with the toolchain's llvm-profdata (rustup's llvm-tools component, added if missing);
 #  3. the server built again with -Cprofile-use, copied to OUT.
-# Cold on 2 cores: two release builds of the server and a debug one of grpc_body (about 26 min
-# on a slow machine). Installs wrk, h2load and Python 3 from Debian's packages when missing.
+# Cold on 2 cores: two release builds of the server and a debug one of grpc_body (22 min on an
+# Intel Xeon, BENCHMARKS.md, seventeenth sitting; a second run reuses the instrumented build's
+# dependencies: 14 min). Installs wrk, h2load and Python 3 from Debian's packages when missing.
 # `--train BINARY` runs only step 1's training against BINARY (CI does, on the debug server, so a
 # change to the corpus or to grpc_body that breaks the image's build fails there) and fails if
 # any part of it sent nothing or could not connect.
