@@ -241,6 +241,20 @@ fn dockerfile() -> Vec<Instruction> {
     instructions
 }
 
+/// What a `COPY` takes from the context: its arguments but the flags and the destination.
+fn copy_sources(copy: &Instruction) -> Vec<&str> {
+    let mut words: Vec<&str> = copy.args.split_whitespace().filter(|w| !w.starts_with("--")).collect();
+    words.pop();
+    words
+}
+
+/// Whether `path` is `dir` or lies under it (paths relative to the repository, `dir` with or
+/// without its trailing `/`).
+fn within(path: &str, dir: &str) -> bool {
+    let dir = dir.trim_end_matches('/');
+    path == dir || path.strip_prefix(dir).is_some_and(|rest| rest.starts_with('/'))
+}
+
 fn final_stage(instructions: &[Instruction]) -> Vec<&Instruction> {
     let last = instructions
         .iter()
@@ -831,10 +845,9 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
         assert!(
             docker
                 .iter()
-                .any(|i| i.keyword == "COPY" && i.stage == builder.stage && {
-                    let source = i.args.split_whitespace().next().unwrap_or("");
-                    needed == source || needed.starts_with(&format!("{}/", source.trim_end_matches('/')))
-                }),
+                .filter(|i| i.keyword == "COPY" && i.stage == builder.stage)
+                .flat_map(copy_sources)
+                .any(|source| within(needed, source)),
             "deploy/Dockerfile: the builder does not copy {needed}, which the profile-guided build needs"
         );
     }
@@ -879,15 +892,14 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
         ignore
             .iter()
             .rev()
-            .find(|(_, p)| source == p || source.starts_with(&format!("{p}/")))
+            .find(|(_, p)| within(source, p))
             .is_some_and(|(out, _)| *out)
     };
     for copy in docker
         .iter()
         .filter(|i| i.keyword == "COPY" && !i.args.contains("--from"))
     {
-        let words: Vec<&str> = copy.args.split_whitespace().filter(|w| !w.starts_with("--")).collect();
-        for source in &words[..words.len() - 1] {
+        for source in copy_sources(copy) {
             assert!(
                 repo().join(source).exists(),
                 "deploy/Dockerfile:{}: COPY {source}, which is not in the repository",
