@@ -15,9 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-10}
 rounds=${ROUNDS:-3}
 concurrency=${CONCURRENCY:-1 16 64}
-if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
-  apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
-fi
+need_tools wrk h2load
 cargo build --release --quiet --bin scruple --example floor --example grpc_body
 work=$(mktemp -d)
 pids=()

@@ -1,5 +1,21 @@
 # Sourced by the scripts beside it; runs nothing by itself.
 
+# need_tools COMMAND...: installs from Debian's packages whichever of the commands is missing
+# (h2load comes in nghttp2-client; wrk and python3 in packages of their own names).
+need_tools() {
+  local missing=() tool
+  for tool in "$@"; do
+    command -v "$tool" >/dev/null && continue
+    case $tool in
+      h2load) missing+=(nghttp2-client) ;;
+      *) missing+=("$tool") ;;
+    esac
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    apt-get update -qq && apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
 # listening_addr OUT: waits up to 10 s for `scruple serve`'s `listening on ADDR` line in the file
 # OUT (its stdout) and prints ADDR; status 1, printing nothing, when no such line came.
 listening_addr() {

@@ -31,9 +31,7 @@ fi
 out=${1:-target/pgo/scruple}  # unused with --train
 rounds=${TRAIN_ROUNDS:-3}
 seconds=${TRAIN_SECONDS:-8}
-if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null || ! command -v python3 >/dev/null; then
-  apt-get update -qq && apt-get install -y -qq wrk nghttp2-client python3 >/dev/null
-fi
+need_tools wrk h2load python3
 profdata() { find "$(rustc --print sysroot)/lib/rustlib" -name llvm-profdata -type f 2>/dev/null | head -1; }
 # With --target, RUSTFLAGS reach only what is built for it: build scripts and proc macros are
 # neither instrumented (their runs would write profiles of their own) nor built twice.

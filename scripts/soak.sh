@@ -16,9 +16,7 @@ requests=${1:-100000}
 soak=${2:-600}
 churn=${3:-5000}
 tls=${SOAK_TLS:-0}
-if ! command -v wrk >/dev/null || ! command -v h2load >/dev/null; then
-  apt-get update -qq && apt-get install -y -qq wrk nghttp2-client >/dev/null
-fi
+need_tools wrk h2load
 cargo build --release --quiet --bin scruple
 work=$(mktemp -d)
 server=""

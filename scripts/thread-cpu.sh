@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib.sh
 binary=$1 seconds=${2:-10} body=${3:-structured}
-command -v wrk >/dev/null || { apt-get update -qq && apt-get install -y -qq wrk >/dev/null; }
+need_tools wrk
 work=$(mktemp -d)
 "$binary" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/threads.db" >"$work/out" 2>"$work/err" &
 pid=$!
