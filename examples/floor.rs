@@ -3,8 +3,13 @@
 //! Scruple (REST JSON and gRPC protobuf), with no engine, no store and no validation.
 //! `scripts/bench-load.sh` measures Scruple against it.
 //!
-//! Usage: `cargo run --release --example floor -- 127.0.0.1:0` (prints `listening on ADDR`).
+//! With `--value`, REST is the stricter floor an outside check uses: the body decoded into a
+//! `serde_json::Value` (no typed request), and the answer's bytes, encoded once, sent again.
+//!
+//! Usage: `cargo run --release --example floor -- 127.0.0.1:0 [--value]` (prints `listening on ADDR`).
 
+use axum::body::Bytes;
+use axum::http::header::CONTENT_TYPE;
 use axum::routing::post;
 use axum::{Json, Router};
 use scruple::transport::grpc::pb;
@@ -67,17 +72,45 @@ fn answer() -> DecisionDto {
 
 #[tokio::main]
 async fn main() {
-    let addr = std::env::args().nth(1).unwrap_or_else(|| "127.0.0.1:0".to_owned());
+    let mut args = std::env::args().skip(1);
+    let addr = args.next().unwrap_or_else(|| "127.0.0.1:0".to_owned());
+    let value = match args.next().as_deref() {
+        None => false,
+        Some("--value") => true,
+        Some(other) => {
+            eprintln!("floor: unknown argument {other:?}; usage: floor [ADDR] [--value]");
+            std::process::exit(2);
+        }
+    };
     let answer = answer();
     let grpc = tonic::service::Routes::new(ClarifierServer::new(Floor(answer.clone()))).into_axum_router();
-    let app = Router::new().merge(grpc).route(
-        "/v1/clarify",
-        post(move |Json(body): Json<ClarifyBody>| {
-            let mut answer = answer.clone();
-            answer.text = body.directive.text;
-            async move { Json(answer) }
-        }),
-    );
+    let app = Router::new().merge(grpc);
+    let app = if value {
+        // The typed floor's answer to either bench body (whose text is the paper's), as bytes.
+        let bytes = Bytes::from(
+            serde_json::to_vec(&DecisionDto {
+                text: Some("Get the vase.".into()),
+                ..answer
+            })
+            .expect("encode"),
+        );
+        app.route(
+            "/v1/clarify",
+            post(move |Json(_): Json<serde_json::Value>| {
+                let bytes = bytes.clone();
+                async move { ([(CONTENT_TYPE, "application/json")], bytes) }
+            }),
+        )
+    } else {
+        app.route(
+            "/v1/clarify",
+            post(move |Json(body): Json<ClarifyBody>| {
+                let mut answer = answer.clone();
+                answer.text = body.directive.text;
+                async move { Json(answer) }
+            }),
+        )
+    };
     let listener = tokio::net::TcpListener::bind(&addr).await.expect("bind");
     println!("listening on {}", listener.local_addr().expect("bound"));
     // TCP_NODELAY, as Scruple sets it: the floor must not be slowed by what Scruple is not.

@@ -15,6 +15,11 @@ cd "$(dirname "$0")/.."
 seconds=${1:-10}
 rounds=${ROUNDS:-3}
 concurrency=${CONCURRENCY:-1 16 64}
+case ${FLOOR:-typed} in
+  typed) floor_args=() ;;
+  value) floor_args=(--value) ;;
+  *) echo "bench-load: FLOOR is typed or value, not $FLOOR" >&2; exit 2 ;;
+esac
 need_tools wrk h2load
 cargo build --release --quiet --bin scruple --example floor --example grpc_body
 work=$(mktemp -d)
@@ -31,7 +36,7 @@ start() { # name, command...: starts a server, echoes its address
   listening_addr "$work/$name.out" || true
 }
 scruple=$(start scruple "${SCRUPLE_BIN:-target/release/scruple}" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/bench.db")
-floor=$(start floor target/release/examples/floor 127.0.0.1:0)
+floor=$(start floor target/release/examples/floor 127.0.0.1:0 "${floor_args[@]}")
 python3 - "$scruple" "$work" <<'PY'
 import json, sys, urllib.request
 addr, work = sys.argv[1], sys.argv[2]
@@ -81,6 +86,8 @@ print(f"{rps:.0f} {p50:.2f} {p99:.2f} {errors}")
 PY
 }
 
+echo "Floor: ${FLOOR:-typed} (REST)."
+echo
 echo "| transport | concurrency | Scruple req/s | floor req/s | ratio (median of $rounds) | Scruple p50 ms | Scruple p99 ms | floor p99 ms | p99 ratio | errors |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
 h2_run() { # addr, concurrency, (unused) -> "rps p50 p99 failed"
