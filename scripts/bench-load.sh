@@ -15,10 +15,11 @@ cd "$(dirname "$0")/.."
 seconds=${1:-10}
 rounds=${ROUNDS:-3}
 concurrency=${CONCURRENCY:-1 16 64}
-case ${FLOOR:-typed} in
+floor_kind=${FLOOR:-typed}
+case $floor_kind in
   typed) floor_args=() ;;
   value) floor_args=(--value) ;;
-  *) echo "bench-load: FLOOR is typed or value, not $FLOOR" >&2; exit 2 ;;
+  *) echo "bench-load: FLOOR is typed or value, not $floor_kind" >&2; exit 2 ;;
 esac
 need_tools wrk h2load
 cargo build --release --quiet --bin scruple --example floor --example grpc_body
@@ -86,7 +87,7 @@ print(f"{rps:.0f} {p50:.2f} {p99:.2f} {errors}")
 PY
 }
 
-echo "Floor: ${FLOOR:-typed} (REST)."
+echo "Floor: $floor_kind (REST)."
 echo
 echo "| transport | concurrency | Scruple req/s | floor req/s | ratio (median of $rounds) | Scruple p50 ms | Scruple p99 ms | floor p99 ms | p99 ratio | errors |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
