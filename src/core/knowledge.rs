@@ -61,6 +61,21 @@ const AHEAD: f64 = 0.75;
 struct Hit {
     knowledge: Knowledge,
     due: bool,
+    /// Whether answering with it is a lookup the metrics count (a lease's is; fixed knowledge
+    /// is none).
+    counted: bool,
+}
+
+impl Hit {
+    /// Counts the lookup of a request answered with this hit: one per cache, as every request
+    /// answered with knowledge counts exactly one outcome per cache.
+    fn answer(self, metrics: Option<&Metrics>) -> Knowledge {
+        if let (true, Some(m)) = (self.counted, metrics) {
+            m.cache(Cache::Norms, Outcome::Hit);
+            m.cache(Cache::Library, Outcome::Hit);
+        }
+        self.knowledge
+    }
 }
 
 /// How long the last read of the knowledge may stand for readiness; past it, readiness says the
@@ -157,7 +172,7 @@ impl Core {
     pub(super) async fn knowledge_by(&self, deadline: Instant) -> Result<Knowledge, Error> {
         // Under a lease nothing is awaited, so nothing can be late: no timer is set. The file
         // was checked here once; the read below does not check it again before it waits.
-        let outcome = match self.leased(Some(&self.metrics)) {
+        let outcome = match self.leased() {
             Ok(Some(hit)) => return Ok(self.ahead(hit, deadline).await),
             // A little past the deadline, so that a request whose deadline is (nearly) spent
             // still gets its answer with `limits` when the store is quick, as it is unless
@@ -179,23 +194,25 @@ impl Core {
     /// still holds; so no request waits for the read when the lease runs out, unless the store
     /// is slower than a quarter of the lease. What this request answers with is the fresh read,
     /// or, if the read fails or is late, the lease it already had (it held when the request began).
+    /// Either way the request counts one lookup a cache: the read's outcomes, or the lease's hit.
     async fn ahead(&self, hit: Hit, deadline: Instant) -> Knowledge {
+        let metrics = Some(&*self.metrics);
         let Some(_only_reader) = hit.due.then(|| self.refreshing.try_lock().ok()).flatten() else {
-            return hit.knowledge;
+            return hit.answer(metrics);
         };
-        let read = self.read_locked(Some(&self.metrics), Read::Always);
+        let read = self.read_locked(metrics, Read::Always);
         let outcome = tokio::time::timeout_at((deadline + KNOWLEDGE_GRACE).into(), read)
             .await
             .unwrap_or(Err(Error::Overloaded { retry_after_s: 1 }));
         self.note_readiness(&outcome);
-        outcome.unwrap_or(hit.knowledge)
+        outcome.unwrap_or_else(|_| hit.answer(metrics))
     }
 
     /// `metrics`: where a request's cache hits and refreshes are counted (a probe's are not).
     /// Readiness is noted when the store is read or found wanting, not on every lease hit.
     async fn knowledge_for(&self, metrics: Option<&Metrics>) -> Result<Knowledge, Error> {
-        let outcome = match self.leased(metrics) {
-            Ok(Some(hit)) => return Ok(hit.knowledge),
+        let outcome = match self.leased() {
+            Ok(Some(hit)) => return Ok(hit.answer(metrics)),
             Ok(None) => self.read_knowledge(metrics, Read::UnlessLeased).await,
             Err(e) => Err(e),
         };
@@ -207,35 +224,34 @@ impl Core {
     /// now. The database file is checked on every call (a `poll` of the watch on its path, a
     /// `stat` after a change), so that a file deleted or replaced fails closed on the very next
     /// request, lease or not.
-    fn leased(&self, metrics: Option<&Metrics>) -> Result<Option<Hit>, Error> {
+    fn leased(&self) -> Result<Option<Hit>, Error> {
         let store = match &self.source {
             Source::Fixed(knowledge) => {
                 return Ok(Some(Hit {
                     knowledge: knowledge.clone(),
                     due: false,
+                    counted: false,
                 }));
             }
             Source::Store(store) => store,
         };
         store.still_there().map_err(|e| e.answer(Error::NormsUnavailable))?;
-        self.lease_hit(metrics)
+        self.lease_hit()
     }
 
-    /// The knowledge of the lease, if it holds now; the file is not looked at.
-    fn lease_hit(&self, metrics: Option<&Metrics>) -> Result<Option<Hit>, Error> {
+    /// The knowledge of the lease, if it holds now; the file is not looked at. Counts nothing:
+    /// whoever answers with it does ([`Hit::answer`]).
+    fn lease_hit(&self) -> Result<Option<Hit>, Error> {
         let lease = self.lease.read().map_err(|_| poisoned())?;
         let Some((leased, age)) =
             (lease.as_ref().map(|l| (l, l.from.elapsed()))).filter(|(_, age)| *age < self.settings.lease)
         else {
             return Ok(None);
         };
-        if let Some(m) = metrics {
-            m.cache(Cache::Norms, Outcome::Hit);
-            m.cache(Cache::Library, Outcome::Hit);
-        }
         Ok(Some(Hit {
             knowledge: leased.knowledge.clone(),
             due: age >= self.settings.lease.mul_f64(AHEAD),
+            counted: true,
         }))
     }
 
@@ -251,48 +267,36 @@ impl Core {
         self.read_locked(metrics, read).await
     }
 
-    /// [`Core::read_knowledge`] with the right to read taken (or not needed: no lease).
+    /// [`Core::read_knowledge`] with the right to read taken (or not needed: no lease). Counts
+    /// one outcome a cache when it answers with knowledge, none when it fails.
     async fn read_locked(&self, metrics: Option<&Metrics>, read: Read) -> Result<Knowledge, Error> {
-        let count = |cache, outcome| {
-            if let Some(m) = metrics {
-                m.cache(cache, outcome);
-            }
-        };
         let store = match &self.source {
             Source::Fixed(knowledge) => return Ok(knowledge.clone()),
             Source::Store(store) => store,
         };
         if read == Read::UnlessLeased
-            && let Some(Hit { knowledge, .. }) = self.lease_hit(metrics)?
+            && let Some(hit) = self.lease_hit()?
         {
             // Read by the request this one waited for, after this one began (and looked at the
             // file: it has not been looked at since only by the time spent waiting here).
-            return Ok(knowledge);
+            return Ok(hit.answer(metrics));
         }
         // Waiting for a connection is overload, never "norms unavailable".
         let unavailable = |e: crate::storage::StoreError| e.answer(Error::NormsUnavailable);
         let from = Instant::now();
         let versions = store.versions().await.map_err(unavailable)?;
-        let norms = match cached(&self.compiled, versions.norms, |c| c.version)? {
-            Some(norms) => {
-                count(Cache::Norms, Outcome::Hit);
-                norms
-            }
+        let (norms, norms_outcome) = match cached(&self.compiled, versions.norms, |c| c.version)? {
+            Some(norms) => (norms, Outcome::Hit),
             None => {
-                count(Cache::Norms, Outcome::Refresh);
                 let (version, norms) = store.load().await.map_err(unavailable)?;
                 let fresh = Arc::new(CompiledNorms::compile(version, norms));
                 keep_newer(&self.compiled, &fresh, |c| c.version)?;
-                fresh
+                (fresh, Outcome::Refresh)
             }
         };
-        let library = match cached(&self.library, versions.actions, |l| l.version)? {
-            Some(library) => {
-                count(Cache::Library, Outcome::Hit);
-                library
-            }
+        let (library, library_outcome) = match cached(&self.library, versions.actions, |l| l.version)? {
+            Some(library) => (library, Outcome::Hit),
             None => {
-                count(Cache::Library, Outcome::Refresh);
                 let (version, verbs) = store.load_actions().await.map_err(unavailable)?;
                 let fresh = Library::from_written(version, &verbs)
                     .and_then(|library| library.check_words("").map(|()| library))
@@ -301,9 +305,13 @@ impl Core {
                     })?;
                 let fresh = Arc::new(fresh);
                 keep_newer(&self.library, &fresh, |l| l.version)?;
-                fresh
+                (fresh, Outcome::Refresh)
             }
         };
+        if let Some(m) = metrics {
+            m.cache(Cache::Norms, norms_outcome);
+            m.cache(Cache::Library, library_outcome);
+        }
         let knowledge = Knowledge { norms, library };
         if !self.settings.lease.is_zero() {
             *self.lease.write().map_err(|_| poisoned())? = Some(Leased {

@@ -75,6 +75,35 @@ async fn metrics_count_requests_decisions_readings_and_cache_use() {
     assert!(text.trim_end().ends_with("# EOF"));
 }
 
+/// A request counts one lookup a cache, whichever way it got its knowledge: also the request
+/// that finds the lease past three quarters of its time and reads the versions again ahead of
+/// its end (it once counted the lease's hit and the read's outcome both).
+#[tokio::test]
+async fn a_request_that_reads_ahead_of_the_lease_counts_one_lookup_a_cache() {
+    let lease = std::time::Duration::from_millis(400);
+    let app = crate::helpers::spawn_tweaked(move |config| config.lease = lease).await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let body = get_vase();
+    assert_eq!(app.clarify(&body).await["decision"], "assume");
+    // The first request's read began before this instant: the second comes at least 80% of
+    // the lease after it, past the three quarters that make a read ahead due.
+    let after = std::time::Instant::now();
+    tokio::time::sleep_until((after + lease.mul_f64(0.8)).into()).await;
+    assert_eq!(app.clarify(&body).await["decision"], "assume");
+    let text = app.get("/metrics").await.text().await.unwrap();
+    for cache in ["norms", "library"] {
+        let count = |outcome: &str| {
+            sample(
+                &text,
+                &format!(r#"scruple_knowledge_cache_total{{cache="{cache}",outcome="{outcome}"}}"#),
+            )
+            .unwrap_or(0.0)
+        };
+        assert_eq!(count("hit") + count("refresh"), 2.0, "{cache}: two requests\n{text}");
+    }
+}
+
 #[tokio::test]
 async fn every_response_carries_a_request_id_and_a_callers_id_is_echoed() {
     let app = spawn_app().await;
