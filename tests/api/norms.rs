@@ -174,21 +174,25 @@ async fn the_versions_are_read_again_before_the_lease_runs_out() {
     let app = crate::helpers::spawn_tweaked(move |config| config.lease = lease).await;
     app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
         .await;
-    let leased = std::time::Instant::now();
-    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    let body = get_vase();
+    // The lease is taken between these two instants: `before` bounds its end from below,
+    // `after` the moment a read ahead is due from above.
+    let before = std::time::Instant::now();
+    assert_eq!(app.clarify(&body).await["decision"], "assume");
+    let after = std::time::Instant::now();
     crate::helpers::raw_sql_on(
         &app.db_path,
         "DELETE FROM norms; UPDATE norm_set SET version = version + 1",
     )
     .await
     .unwrap();
-    let stale = app.clarify(&get_vase()).await;
-    if leased.elapsed() < lease / 2 {
+    let stale = app.clarify(&body).await;
+    if before.elapsed() < lease / 2 {
         // Under the lease, the change made behind the service's back is not seen yet.
         assert_eq!(stale["decision"], "assume");
     }
-    tokio::time::sleep((lease.mul_f64(0.8)).saturating_sub(leased.elapsed())).await;
-    let fresh = app.clarify(&get_vase()).await;
+    tokio::time::sleep_until((after + lease.mul_f64(0.8)).into()).await;
+    let fresh = app.clarify(&body).await;
     assert_eq!(fresh["decision"], "ask", "{fresh}");
-    assert_eq!(app.clarify(&get_vase()).await["decision"], "ask");
+    assert_eq!(app.clarify(&body).await["decision"], "ask");
 }

@@ -589,8 +589,7 @@ fn a_deadline_on_the_pool_keeps_the_likeliest_readings() {
     let request = act("put", vec![ty("cup"), ty("plate")]);
     let library = Library::default_library();
     let full = clarify(&request, &scene, &norms, &library, &|| false).unwrap();
-    let mut partial = 0;
-    for (threads, after) in [(4, 5), (4, 300), (2, 300), (4, 1500), (1, 300)] {
+    for (threads, after) in [(4, 5), (4, 300), (2, 300), (4, 1500), (1, 300), (1, 1500)] {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         let calls = AtomicUsize::new(0);
         let expired = || calls.fetch_add(1, Ordering::Relaxed) >= after;
@@ -609,7 +608,12 @@ fn a_deadline_on_the_pool_keeps_the_likeliest_readings() {
             "{threads} threads, after {after}: not the likeliest {kept}"
         );
 
-        partial += usize::from(kept > 0);
+        // On one thread the deadline is looked at in the same order every run, so whether
+        // anything is kept is fixed, and for these deadlines something is. On more, a thread
+        // preempted early lets the others use up the looks first (while the readings are still
+        // being described, say), and then none is kept: a prefix still, but nothing to compare.
+        if threads == 1 {
+            assert!(kept > 0, "after {after}: the deadline left nothing to compare");
+        }
     }
-    assert!(partial >= 3, "the deadline left nothing to compare in most runs");
 }
