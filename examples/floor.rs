@@ -6,6 +6,9 @@
 //! With `--value`, REST is the stricter floor an outside check uses: the body decoded into a
 //! `serde_json::Value` (no typed request), and the answer's bytes, encoded once, sent again.
 //!
+//! Either way the answer is the one Scruple gives the bench's request, byte for byte: to the
+//! directive sent as text alone it carries `parse`, as Scruple's does (148 bytes more).
+//!
 //! Usage: `cargo run --release --example floor -- 127.0.0.1:0 [--value]` (prints `listening on ADDR`).
 
 use axum::body::Bytes;
@@ -14,7 +17,7 @@ use axum::routing::post;
 use axum::{Json, Router};
 use scruple::transport::grpc::pb;
 use scruple::transport::grpc::pb::clarifier_server::{Clarifier, ClarifierServer};
-use scruple::wire::{ClarifyBody, DecisionDto, InterpretationDto, ReasonDto};
+use scruple::wire::{ClarifyBody, DecisionDto, InterpretationDto, ParseDto, ReasonDto, ReferenceParseDto};
 use tonic::{Request, Response, Status};
 
 /// Answers every Clarify with the same decision, after decoding the request.
@@ -33,7 +36,23 @@ impl Clarifier for Floor {
     }
 }
 
-/// The answer to the paper's "Get the vase.", built once; every request gets a copy of it.
+/// How Scruple reads "Get the vase." sent as text alone: its answer to that directive says so.
+fn parse() -> ParseDto {
+    ParseDto {
+        act: "command".into(),
+        addressee: None,
+        form: Some("want(human,did(self,get(X)))".into()),
+        references: vec![ReferenceParseDto {
+            words: "the vase".into(),
+            candidates: vec!["object3".into(), "object4".into()],
+        }],
+        ignored: vec![],
+        unclear: None,
+    }
+}
+
+/// The answer to the paper's "Get the vase." sent structured, built once; every request gets
+/// a copy of it (with `parse` added when sent as text alone).
 fn answer() -> DecisionDto {
     let reading = |action: &str, description: &str, ok: bool| InterpretationDto {
         action: format!("did(self,get({action}))"),
@@ -83,30 +102,49 @@ async fn main() {
         }
     };
     let answer = answer();
+    // The answer to the directive sent as text alone (no action, no form): Scruple's says how
+    // it read the words.
+    let in_words = |answer: &DecisionDto| DecisionDto {
+        parse: Some(parse()),
+        ..answer.clone()
+    };
     let grpc = tonic::service::Routes::new(ClarifierServer::new(Floor(answer.clone()))).into_axum_router();
     let app = Router::new().merge(grpc);
     let app = if value {
-        // The typed floor's answer to either bench body (whose text is the paper's), as bytes.
-        let bytes = Bytes::from(
-            serde_json::to_vec(&DecisionDto {
-                text: Some("Get the vase.".into()),
-                ..answer
-            })
-            .expect("encode"),
-        );
+        // The typed floor's answers to the bench's two bodies (whose text is the paper's), as
+        // bytes: the one to the text alone when the directive has neither action nor form.
+        let encode = |answer: DecisionDto| {
+            Bytes::from(
+                serde_json::to_vec(&DecisionDto {
+                    text: Some("Get the vase.".into()),
+                    ..answer
+                })
+                .expect("encode"),
+            )
+        };
+        let (structured, words) = (encode(answer.clone()), encode(in_words(&answer)));
         app.route(
             "/v1/clarify",
-            post(move |Json(_): Json<serde_json::Value>| {
-                let bytes = bytes.clone();
+            post(move |Json(body): Json<serde_json::Value>| {
+                let directive = &body["directive"];
+                let bytes = match directive.get("action").is_none() && directive.get("form").is_none() {
+                    true => words.clone(),
+                    false => structured.clone(),
+                };
                 async move { ([(CONTENT_TYPE, "application/json")], bytes) }
             }),
         )
     } else {
+        let words = in_words(&answer);
         app.route(
             "/v1/clarify",
             post(move |Json(body): Json<ClarifyBody>| {
-                let mut answer = answer.clone();
-                answer.text = body.directive.text;
+                let directive = body.directive;
+                let mut answer = match directive.action.is_none() && directive.form.is_none() {
+                    true => words.clone(),
+                    false => answer.clone(),
+                };
+                answer.text = directive.text;
                 async move { Json(answer) }
             }),
         )

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Load benchmark: the release server under wrk (REST, the directive sent structured and sent as
 # text) and h2load (gRPC) on the paper's "Get the vase.", beside a floor (examples/floor.rs: same
-# request/response types, no engine), at each concurrency of $CONCURRENCY (default "1 16 64").
+# request/response types, no engine; its REST answer to each body is Scruple's, byte for byte,
+# checked before the runs), at each concurrency of $CONCURRENCY (default "1 16 64").
 # Each row is $ROUNDS rounds (default 3) of Scruple then the floor, in turn; it shows the medians
 # and the median of the rounds' ratios. RSS sampled under load. Prints a Markdown table for
 # BENCHMARKS.md. Installs wrk and h2load (Debian's nghttp2-client) when missing. Traffic stays on
@@ -38,9 +39,9 @@ start() { # name, command...: starts a server, echoes its address
 }
 scruple=$(start scruple "${SCRUPLE_BIN:-target/release/scruple}" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/bench.db")
 floor=$(start floor target/release/examples/floor 127.0.0.1:0 "${floor_args[@]}")
-python3 - "$scruple" "$work" <<'PY'
+python3 - "$scruple" "$work" "$floor" <<'PY'
 import json, sys, urllib.request
-addr, work = sys.argv[1], sys.argv[2]
+addr, work, floor = sys.argv[1], sys.argv[2], sys.argv[3]
 demo = json.load(open("../shared/scenarios/paper-demo.json"))
 for norm in demo["norms"]:
     urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/norms", json.dumps(norm).encode(), {"content-type": "application/json"}))
@@ -50,8 +51,11 @@ bodies = {
 }
 for name, body in bodies.items():
     open(f"{work}/{name}.json", "w").write(json.dumps(body))
-    answer = json.load(urllib.request.urlopen(urllib.request.Request(f"http://{addr}/v1/clarify", json.dumps(body).encode(), {"content-type": "application/json"})))
-    assert answer["decision"] == "assume", answer
+    ask = lambda at: urllib.request.urlopen(urllib.request.Request(f"http://{at}/v1/clarify", json.dumps(body).encode(), {"content-type": "application/json"})).read()
+    answer = ask(addr)
+    assert json.loads(answer)["decision"] == "assume", answer
+    # Like for like: the floor answers each body with Scruple's bytes.
+    assert ask(floor) == answer, f"the floor's answer to the {name} body is not Scruple's:\n{ask(floor)}\n{answer}"
 PY
 target/release/examples/grpc_body "$work/structured.json" "$work/body.grpc"
 for body in structured text; do
