@@ -55,7 +55,8 @@ for name, body in bodies.items():
     answer = ask(addr)
     assert json.loads(answer)["decision"] == "assume", answer
     # Like for like: the floor answers each body with Scruple's bytes.
-    assert ask(floor) == answer, f"the floor's answer to the {name} body is not Scruple's:\n{ask(floor)}\n{answer}"
+    floors = ask(floor)
+    assert floors == answer, f"the floor's answer to the {name} body is not Scruple's:\n{floors}\n{answer}"
 PY
 target/release/examples/grpc_body "$work/structured.json" "$work/body.grpc"
 for body in structured text; do
