@@ -17,7 +17,7 @@ use crate::metrics::Metrics;
 use crate::storage::{self, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
-use crate::transport::conn::{self, ConnConfig};
+use crate::transport::conn::{self, ConnConfig, Served};
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, Shared, grpc, observe, rest};
 
@@ -98,7 +98,7 @@ pub enum StartError {
 /// A service bound to its port, ready to run.
 pub struct Application {
     listener: TcpListener,
-    router: axum::Router,
+    router: Served,
     tls: Option<Tls>,
     connections: ConnConfig,
 }
@@ -168,12 +168,13 @@ impl Application {
 /// REST and gRPC on one router. gRPC's routes bring a fallback that answers any path with
 /// `grpc-status: 12`; the REST fallbacks set after the merge replace it, so an unknown REST path
 /// is a 404 problem, while gRPC paths (`/package.Service/Method`) still reach tonic.
-/// Layers, outermost first: observing (a request id, the caller's `x-request-id` or a fresh
-/// UUID, set and echoed on the response; the span carrying it; metrics), then admission. A
-/// refused request is still traced and counted. They are applied in one `layer` call: axum
-/// wraps every route once per call, in a boxed service each request clones (an allocation per
-/// level below it too) and a boxed future, so each call costs every request a few allocations.
-async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Router, StartError> {
+/// Around the router, outermost first: observing (a request id, the caller's `x-request-id` or a
+/// fresh UUID, set and echoed on the response; the span carrying it; metrics), then admission.
+/// A refused request is still traced and counted. They wrap the router itself, not its routes:
+/// axum's `Router::layer` wraps every route in a boxed service each request clones and a boxed
+/// future, and that level cost the paper's request about 5% of its instructions and a tenth of
+/// its instruction-cache misses (BENCHMARKS.md, twenty-first sitting).
+async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<Served, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
         &[
@@ -185,13 +186,12 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<axum::Ro
         rest::openapi().paths.paths.into_keys(),
     );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;
-    Ok(rest::router(state)
+    let router = rest::router(state)
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
-        .method_not_allowed_fallback(|| async { Error::MethodNotAllowed })
-        .layer(
-            tower::ServiceBuilder::new()
-                .layer(observe::ObserveLayer::new(observer))
-                .layer(admission::AdmitLayer(admission)),
-        ))
+        .method_not_allowed_fallback(|| async { Error::MethodNotAllowed });
+    Ok(tower::ServiceBuilder::new()
+        .layer(observe::ObserveLayer::new(observer))
+        .layer(admission::AdmitLayer(admission))
+        .service(router))
 }

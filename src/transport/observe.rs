@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::task::{Context, Poll};
 use std::time::Instant;
 
-use axum::extract::{MatchedPath, Request};
+use axum::extract::Request;
 use axum::http::{HeaderName, HeaderValue, Method};
 use axum::response::Response;
 use prost::Message;
@@ -37,8 +37,12 @@ const GRPC_STATUS: HeaderName = HeaderName::from_static("grpc-status");
 pub struct Observer {
     pub metrics: Arc<Metrics>,
     grpc_methods: FxHashSet<Arc<str>>,
-    /// The REST route templates, each text kept once, so that labelling a request copies none.
-    routes: FxHashSet<Arc<str>>,
+    /// The router's route templates by path, each text kept once, so that labelling a request
+    /// copies none: the REST routes, and gRPC's one a service (`/{service}/{*rest}`, as tonic
+    /// routes it), which a request without gRPC's content type is labelled with. The layer runs
+    /// before the router (no boxed level for it on every route), so it finds the template as
+    /// the router will: the same matcher, on the same path.
+    routes: matchit::Router<Arc<str>>,
     unmatched: Arc<str>,
 }
 
@@ -51,6 +55,7 @@ impl Observer {
         routes: impl IntoIterator<Item = String>,
     ) -> Arc<Observer> {
         let mut grpc_methods = FxHashSet::default();
+        let mut templates: Vec<String> = routes.into_iter().collect();
         for encoded in descriptor_sets {
             // The sets are compiled into the binary; one that does not decode names no method.
             let Ok(set) = prost_types::FileDescriptorSet::decode(*encoded) else {
@@ -59,31 +64,40 @@ impl Observer {
             for file in &set.file {
                 let package = file.package();
                 for service in &file.service {
+                    let name = match package {
+                        "" => service.name().to_owned(),
+                        package => format!("{package}.{}", service.name()),
+                    };
                     for method in &service.method {
-                        let service = match package {
-                            "" => service.name().to_owned(),
-                            package => format!("{package}.{}", service.name()),
-                        };
-                        grpc_methods.insert(Arc::from(format!("/{service}/{}", method.name())));
+                        grpc_methods.insert(Arc::from(format!("/{name}/{}", method.name())));
                     }
+                    templates.push(format!("/{name}/{{*rest}}"));
                 }
+            }
+        }
+        templates.sort_unstable();
+        templates.dedup();
+        let mut matcher = matchit::Router::new();
+        for template in templates {
+            // The router took every one of these templates with this matcher, so none
+            // conflicts (a unit test checks each labels itself); if one did, its requests
+            // would be counted as unmatched, never as another route.
+            let label = Arc::from(template.as_str());
+            if let Err(e) = matcher.insert(template, label) {
+                tracing::warn!("route template not labelled: {e}");
             }
         }
         Arc::new(Observer {
             metrics,
             grpc_methods,
-            routes: routes.into_iter().map(Arc::from).collect(),
+            routes: matcher,
             unmatched: Arc::from("unmatched"),
         })
     }
 
-    /// The shared text of a route template. Every REST template is known from the start;
-    /// another (the one of gRPC's routes, asked without gRPC's content type) is copied.
-    fn template(&self, template: &str) -> Arc<str> {
-        self.routes
-            .get(template)
-            .cloned()
-            .unwrap_or_else(|| Arc::from(template))
+    /// The template of the route a path reaches, as the router will match it.
+    fn template(&self, path: &str) -> Option<Arc<str>> {
+        self.routes.at(path).ok().map(|found| found.value.clone())
     }
 }
 
@@ -199,10 +213,7 @@ where
         let route = if grpc {
             observer.grpc_methods.get(request.uri().path()).cloned()
         } else {
-            request
-                .extensions()
-                .get::<MatchedPath>()
-                .map(|m| observer.template(m.as_str()))
+            observer.template(request.uri().path())
         };
         let span = span(&request, &id);
         let asked = Asked {
@@ -355,7 +366,36 @@ pub fn deferred(metadata: &tracing::Metadata<'_>) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::RequestIds;
+    use super::{Observer, RequestIds};
+    use crate::metrics::Metrics;
+    use std::sync::Arc;
+
+    /// The layer runs before the router, so it must find the route the router will: each REST
+    /// template (with its parameters), each gRPC service's catch-all, and nothing for a path no
+    /// route takes.
+    #[test]
+    fn a_path_is_labelled_with_the_template_of_the_route_it_reaches() {
+        let observer = Observer::new(
+            Arc::new(Metrics::new()),
+            &[crate::transport::grpc::pb::FILE_DESCRIPTOR_SET],
+            crate::transport::rest::openapi().paths.paths.into_keys(),
+        );
+        let label = |path: &str| observer.template(path).map(|t| t.to_string());
+        assert_eq!(label("/v1/clarify").as_deref(), Some("/v1/clarify"));
+        assert_eq!(label("/v1/norms/7").as_deref(), Some("/v1/norms/{id}"));
+        assert_eq!(label("/v1/norms/").as_deref(), None);
+        assert_eq!(label("/v1/nowhere").as_deref(), None);
+        assert_eq!(
+            label("/scruple.v1.Clarifier/Clarify").as_deref(),
+            Some("/scruple.v1.Clarifier/{*rest}")
+        );
+        assert!(observer.grpc_methods.contains("/scruple.v1.Clarifier/Clarify"));
+        // Every REST template labels itself: none was lost to a conflict in the matcher.
+        for template in crate::transport::rest::openapi().paths.paths.into_keys() {
+            let path = template.replace("{id}", "1").replace("{name}", "get");
+            assert_eq!(label(&path), Some(template.clone()), "{path}");
+        }
+    }
 
     #[test]
     fn request_ids_are_version_4_uuids_and_never_repeat() {

@@ -25,7 +25,6 @@ use std::sync::Arc;
 use std::task::{Context, Poll};
 use std::time::{Duration, Instant};
 
-use axum::Router;
 use bytes::Bytes;
 use http_body::{Frame, SizeHint};
 use hyper::body::Incoming;
@@ -37,6 +36,8 @@ use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 use tokio::task::JoinSet;
 use tower::ServiceExt;
 
+use crate::transport::admission::Admit;
+use crate::transport::observe::Observe;
 use crate::transport::tls::{Handshakes, Tls};
 use body::TimedBody;
 use io::{Activity, InFlight, Mode, State, Watched};
@@ -110,9 +111,12 @@ impl ConnConfig {
     }
 }
 
+/// What every request is given to: the router, inside the observing and admission layers.
+pub type Served = Observe<Admit<axum::Router>>;
+
 /// What every connection task shares.
 struct Shared {
-    router: Router,
+    router: Served,
     config: ConnConfig,
     tls: Option<Handshakes>,
 }
@@ -123,7 +127,7 @@ struct Shared {
 pub async fn serve(
     listener: TcpListener,
     tls: Option<Tls>,
-    router: Router,
+    router: Served,
     config: ConnConfig,
     shutdown: impl Future<Output = ()>,
 ) -> std::io::Result<()> {
@@ -427,7 +431,7 @@ async fn watchdog(activity: &Activity, config: &ConnConfig) -> Expired {
 /// request counted until its answer has been sent.
 #[derive(Clone)]
 struct Service {
-    router: Router,
+    router: Served,
     body_timeout: Duration,
     activity: Arc<Activity>,
 }
@@ -449,7 +453,7 @@ impl hyper::service::Service<hyper::Request<Incoming>> for Service {
 
     fn call(&self, request: hyper::Request<Incoming>) -> Answer {
         let in_flight = self.activity.begin();
-        let request = request.map(|body| TimedBody::new(body, self.body_timeout));
+        let request = request.map(|body| axum::body::Body::new(TimedBody::new(body, self.body_timeout)));
         Answer {
             inner: self.router.clone().oneshot(request),
             in_flight: Some(in_flight),
@@ -461,7 +465,7 @@ pin_project_lite::pin_project! {
     /// The router's answer to one request, its body tracked.
     struct Answer {
         #[pin]
-        inner: tower::util::Oneshot<Router, hyper::Request<TimedBody<Incoming>>>,
+        inner: tower::util::Oneshot<Served, axum::extract::Request>,
         in_flight: Option<InFlight>,
     }
 }
