@@ -172,8 +172,8 @@ impl Application {
 /// fresh UUID, set and echoed on the response; the span carrying it; metrics), then admission.
 /// A refused request is still traced and counted. They wrap the router itself, not its routes:
 /// axum's `Router::layer` wraps every route in a boxed service each request clones and a boxed
-/// future, and that level cost the paper's request about 5% of its instructions and a tenth of
-/// its instruction-cache misses (BENCHMARKS.md, twenty-first sitting).
+/// future, and that level cost the paper's request about 1% of its instructions and 3-4% of its
+/// instruction-cache misses (BENCHMARKS.md, twenty-first sitting).
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<Served, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
