@@ -177,12 +177,7 @@ impl Application {
 async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<Served, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
-        &[
-            grpc::pb::FILE_DESCRIPTOR_SET,
-            tonic_health::pb::FILE_DESCRIPTOR_SET,
-            tonic_reflection::pb::v1::FILE_DESCRIPTOR_SET,
-            tonic_reflection::pb::v1alpha::FILE_DESCRIPTOR_SET,
-        ],
+        &grpc::SERVED_DESCRIPTOR_SETS,
         rest::openapi().paths.paths.into_keys(),
     );
     let grpc = grpc::router(state.clone()).await.map_err(StartError::Grpc)?;

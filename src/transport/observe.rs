@@ -375,10 +375,11 @@ mod tests {
     /// route takes.
     #[test]
     fn a_path_is_labelled_with_the_template_of_the_route_it_reaches() {
+        let templates: Vec<String> = crate::transport::rest::openapi().paths.paths.into_keys().collect();
         let observer = Observer::new(
             Arc::new(Metrics::new()),
-            &[crate::transport::grpc::pb::FILE_DESCRIPTOR_SET],
-            crate::transport::rest::openapi().paths.paths.into_keys(),
+            &crate::transport::grpc::SERVED_DESCRIPTOR_SETS,
+            templates.clone(),
         );
         let label = |path: &str| observer.template(path).map(|t| t.to_string());
         assert_eq!(label("/v1/clarify").as_deref(), Some("/v1/clarify"));
@@ -391,7 +392,11 @@ mod tests {
         );
         assert!(observer.grpc_methods.contains("/scruple.v1.Clarifier/Clarify"));
         // Every REST template labels itself: none was lost to a conflict in the matcher.
-        for template in crate::transport::rest::openapi().paths.paths.into_keys() {
+        // So does each gRPC service's catch-all (health and reflection's too).
+        for service in ["/grpc.health.v1.Health", "/grpc.reflection.v1.ServerReflection"] {
+            assert_eq!(label(&format!("{service}/Any")), Some(format!("{service}/{{*rest}}")));
+        }
+        for template in templates {
             let path = template.replace("{id}", "1").replace("{name}", "get");
             assert_eq!(label(&path), Some(template.clone()), "{path}");
         }

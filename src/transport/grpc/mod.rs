@@ -262,6 +262,15 @@ impl Actions for ActionsService {
     }
 }
 
+/// The encoded `FileDescriptorSet` of every gRPC service [`router`] serves: the observing layer
+/// takes its method names and its routes' templates from these.
+pub const SERVED_DESCRIPTOR_SETS: [&[u8]; 4] = [
+    pb::FILE_DESCRIPTOR_SET,
+    tonic_health::pb::FILE_DESCRIPTOR_SET,
+    tonic_reflection::pb::v1::FILE_DESCRIPTOR_SET,
+    tonic_reflection::pb::v1alpha::FILE_DESCRIPTOR_SET,
+];
+
 /// The gRPC services as an axum router: scruple.v1, `grpc.health.v1.Health` (SERVING: the store
 /// is open and migrated before this is built) and reflection, both v1 and v1alpha (older grpcurl
 /// speaks only v1alpha).
