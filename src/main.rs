@@ -2,7 +2,7 @@
 //! offline commands (their logic lives in `scruple::offline`).
 
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use std::sync::Mutex;
@@ -123,12 +123,23 @@ async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Runs a replay, with a counter on stderr when a person is watching.
+/// What a replay made: its summary, and its answers when asked to keep them (for `--diff`).
+struct Replayed {
+    summary: Summary,
+    answers: Vec<offline::Answer>,
+}
+
+/// Runs a replay, with a counter on stderr when a person is watching. Each answer is written to
+/// `out` (a file, by its path) as a JSON line, in line order, while later lines are still being
+/// decided; the answers are kept only when `keep`. Fails with the first error writing `out`
+/// (the replay still runs to its end, so the failure comes with nothing half-decided).
 fn replay_with_progress(
     lines: &[offline::Line<'_>],
     knowledge: offline::Knowledge,
     label: &str,
-) -> Vec<offline::Answer> {
+    mut out: Option<(&Path, &mut dyn Write)>,
+    keep: bool,
+) -> Result<Replayed, Failure> {
     let total = lines.len();
     let watching = std::io::stderr().is_terminal();
     // About a hundred updates however long the batch: a terminal is slow to redraw.
@@ -138,13 +149,43 @@ fn replay_with_progress(
             eprint!("\r{label}: {done}/{total}");
         }
     };
+    let writing = out.is_some();
+    // On the worker that decided them: the lines' counts, their JSON and (when kept) themselves.
+    let each = |answers: Vec<offline::Answer>| {
+        let summary = Summary::of(&answers);
+        let text = writing.then(|| offline::jsonl(&answers));
+        (summary, text, if keep { answers } else { Vec::new() })
+    };
+    let mut replayed = Replayed {
+        summary: Summary::default(),
+        answers: Vec::new(),
+    };
+    let mut failed = None;
+    let mut then = |(summary, text, answers): (Summary, Option<String>, Vec<offline::Answer>)| {
+        replayed.summary.merge(summary);
+        replayed.answers.extend(answers);
+        if let (Some((_, out)), Some(text), None) = (out.as_mut(), text, &failed) {
+            failed = out.write_all(text.as_bytes()).err();
+        }
+    };
     // The replay's threads decide through this runtime; this one only waits for them.
     let runtime = tokio::runtime::Handle::current();
-    let answers = tokio::task::block_in_place(|| offline::replay(lines, knowledge, &runtime, &progress));
+    tokio::task::block_in_place(|| offline::replay(lines, knowledge, &runtime, &progress, &each, &mut then));
     if watching && total > 0 {
         eprintln!();
     }
-    answers
+    if let Some((path, out)) = out {
+        failed
+            .map_or_else(|| out.flush(), Err)
+            .map_err(|e| cannot_write(path, e))?;
+    }
+    Ok(replayed)
+}
+
+fn cannot_write(path: &Path, e: std::io::Error) -> Failure {
+    Failure::Run {
+        detail: format!("cannot write {}: {e}", path.display()),
+    }
 }
 
 /// Returns whether every line was decided.
@@ -159,24 +200,27 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
     let bytes = offline::read_input(&args.file)?;
     let lines = offline::parse_lines(&bytes);
     let proposed = sources.knowledge(args.sources.norms.as_deref()).await?;
-    let answers = replay_with_progress(&lines, proposed, "replayed");
-    let summary = Summary::of(&answers);
+    // Made before the replay, so a path that cannot be written fails before the work.
+    let mut out = match &args.out {
+        Some(path) => Some((
+            path.as_path(),
+            std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| cannot_write(path, e))?),
+        )),
+        None => None,
+    };
+    let out = out.as_mut().map(|(path, file)| (*path, file as &mut dyn Write));
+    let Replayed { summary, answers } = replay_with_progress(&lines, proposed, "replayed", out, args.diff)?;
     if args.diff {
         let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
-        let before = replay_with_progress(&lines, baseline, "baseline");
+        let before = replay_with_progress(&lines, baseline, "baseline", None, true)?.answers;
         let changes = offline::diff(&before, &answers);
-        print!("{}", offline::diff_report(&changes, answers.len()));
+        print!("{}", offline::diff_report(&changes, summary.total));
         if !summary.errors.is_empty() {
             println!();
             print!("{}", summary.errors_report());
         }
     } else {
         print!("{summary}");
-    }
-    if let Some(out) = &args.out {
-        std::fs::write(out, offline::answers_jsonl(&answers)).map_err(|e| Failure::Run {
-            detail: format!("cannot write {}: {e}", out.display()),
-        })?;
     }
     Ok(summary.errors.is_empty())
 }

@@ -520,6 +520,30 @@ fn a_malformed_line_is_reported_with_its_number_and_the_rest_still_run() {
     assert_eq!(answers[3]["condition"], "x");
 }
 
+/// An answers file that cannot be made fails the replay before any line is decided: exit 1,
+/// the path named, no summary as if the batch had run.
+#[test]
+fn an_answers_file_that_cannot_be_made_fails_before_the_replay() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let norms = paper_norms(dir.path(), &demo);
+    let out = dir.path().join("missing").join("answers.jsonl");
+
+    let output = scruple(&["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)]);
+
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let problem: Value = serde_json::from_str(stderr(&output).trim()).unwrap();
+    assert_eq!(problem["type"], "/problems/run-failed");
+    let detail = problem["detail"].as_str().unwrap();
+    assert!(
+        detail.starts_with(&format!("cannot write {}: ", out.display())),
+        "{detail}"
+    );
+    assert_eq!(stdout(&output), "", "no summary: nothing was replayed");
+    assert!(!out.exists());
+}
+
 /// The replay's threads change nothing in its answers: the same file replayed on every core and
 /// pinned to one (so one worker) gives the same bytes, a malformed line among them.
 #[test]

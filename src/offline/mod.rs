@@ -26,7 +26,7 @@ use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
 pub use diff::{Change, diff, diff_report};
 pub use knowledge::{Sources, norms_from_bytes, norms_from_file};
-pub use replay::{Answer, Line, NO_CONDITION, Summary, answers_jsonl, parse_lines, replay};
+pub use replay::{Answer, Line, NO_CONDITION, Summary, jsonl, parse_lines, replay};
 
 /// What a run of the CLI failed on, and where.
 #[derive(Debug)]

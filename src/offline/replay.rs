@@ -120,49 +120,77 @@ impl Answer {
 /// few enough that the workers finish together.
 const CHUNK: usize = 64;
 
-/// Decides every line on one thread per core, each parsing and deciding the lines it takes;
-/// answers come back in line order, the same whatever the thread count. `runtime` runs the
-/// core's operation (and its blocking pool, for costly decisions); this call blocks, so call it
-/// outside the runtime's own threads (or under `block_in_place`). `done` is called once per
-/// line as it finishes, with the count so far (for a progress counter).
-pub fn replay(
+/// Decides every line on one thread per core, each parsing and deciding the lines it takes.
+/// Each run of consecutive lines a worker decided is handed to `each` on that worker (to
+/// serialize or count it there, beside the deciding), and what `each` made goes to `then` on
+/// the calling thread in line order, as soon as every line before it is in: the same order and
+/// answers whatever the thread count, written while later lines are still being decided, and
+/// no more answers held than the workers have in hand. `runtime` runs the core's operation (and
+/// its blocking pool, for costly decisions); this call blocks, so call it outside the runtime's
+/// own threads (or under `block_in_place`). `done` is called once per line as it finishes, with
+/// the count so far (for a progress counter).
+pub fn replay<T: Send>(
     lines: &[Line<'_>],
     knowledge: Knowledge,
     runtime: &tokio::runtime::Handle,
     done: &(dyn Fn(usize) + Sync),
-) -> Vec<Answer> {
+    each: &(dyn Fn(Vec<Answer>) -> T + Sync),
+    then: &mut dyn FnMut(T),
+) {
     let core = core_over(knowledge);
     // No more at once than the core has turns for costly decisions, so none waits for a turn
     // (a server would answer such a wait as overload).
     let workers = std::thread::available_parallelism().map_or(2, usize::from);
     let next = AtomicUsize::new(0);
     let finished = AtomicUsize::new(0);
-    let work = || {
-        let mut decided = Vec::new();
-        loop {
-            let from = next.fetch_add(CHUNK, Ordering::Relaxed);
-            if from >= lines.len() {
-                return decided;
-            }
-            for (i, line) in lines.iter().enumerate().skip(from).take(CHUNK) {
-                decided.push((i, runtime.block_on(answer(line, &core))));
-                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+    // Bounded, so a slow `then` (a slow disk) holds the workers back instead of their answers
+    // piling up. The caller drains it whatever order chunks come in, so a full queue never
+    // waits on a chunk still to be sent.
+    let (sender, received) = std::sync::mpsc::sync_channel::<(usize, T)>(2 * workers);
+    std::thread::scope(|scope| {
+        let running: Vec<_> = (0..workers)
+            .map(|_| {
+                let sender = sender.clone();
+                let (next, finished, core) = (&next, &finished, &core);
+                scope.spawn(move || {
+                    loop {
+                        let chunk = next.fetch_add(1, Ordering::Relaxed);
+                        let from = chunk.saturating_mul(CHUNK);
+                        if from >= lines.len() {
+                            return;
+                        }
+                        let decided = (lines.iter().skip(from).take(CHUNK))
+                            .map(|line| {
+                                let answer = runtime.block_on(answer(line, core));
+                                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
+                                answer
+                            })
+                            .collect();
+                        // The receiver lives until every worker is joined.
+                        if sender.send((chunk, each(decided))).is_err() {
+                            return;
+                        }
+                    }
+                })
+            })
+            .collect();
+        drop(sender);
+        // Chunks in by number; each handed on once all those before it are.
+        let mut waiting = BTreeMap::new();
+        let mut due = 0;
+        for (chunk, made) in received.iter() {
+            waiting.insert(chunk, made);
+            while let Some(made) = waiting.remove(&due) {
+                then(made);
+                due += 1;
             }
         }
-    };
-    let mut answers: Vec<Option<Answer>> = vec![None; lines.len()];
-    std::thread::scope(|scope| {
-        let running: Vec<_> = (0..workers).map(|_| scope.spawn(work)).collect();
         for worker in running {
             // A worker ends only by returning or by a panic of the engine, which is a bug: it
             // is raised here as it would have been on one thread.
-            let decided = worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-            for (i, answer) in decided {
-                answers[i] = Some(answer);
-            }
+            worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
         }
     });
-    answers.into_iter().flatten().collect()
 }
 
 /// One line parsed and decided.
@@ -197,23 +225,15 @@ async fn answer(line: &Line<'_>, core: &Core) -> Answer {
     }
 }
 
-/// Answers as JSON Lines, one per request, in line order.
-/// Serialized on every core, as they were decided.
-pub fn answers_jsonl(answers: &[Answer]) -> String {
-    use rayon::prelude::*;
-    answers
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            let mut out = String::new();
-            for answer in chunk {
-                // An answer is plain data (strings, numbers, lists): it always serializes.
-                out.push_str(&serde_json::to_string(answer).unwrap_or_default());
-                out.push('\n');
-            }
-            out
-        })
-        .collect::<Vec<String>>()
-        .concat()
+/// `answers` as JSON Lines, one per answer, in their order.
+pub fn jsonl(answers: &[Answer]) -> String {
+    let mut out = String::new();
+    for answer in answers {
+        // An answer is plain data (strings, numbers, lists): it always serializes.
+        out.push_str(&serde_json::to_string(answer).unwrap_or_default());
+        out.push('\n');
+    }
+    out
 }
 
 /// The condition column for a line that names none.
@@ -251,6 +271,21 @@ impl Summary {
             }
         }
         summary
+    }
+
+    /// Adds the counts of `later`, whose lines all come after this summary's.
+    pub fn merge(&mut self, later: Summary) {
+        self.total += later.total;
+        for (kind, count) in later.by_kind {
+            *self.by_kind.entry(kind).or_default() += count;
+        }
+        for (condition, kinds) in later.by_condition {
+            let row = self.by_condition.entry(condition).or_default();
+            for (kind, count) in kinds {
+                *row.entry(kind).or_default() += count;
+            }
+        }
+        self.errors.extend(later.errors);
     }
 
     /// `errors`, then one line per line that got no decision; empty when every line did.
