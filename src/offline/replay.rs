@@ -166,7 +166,7 @@ pub fn replay<T: Send>(
                                 answer
                             })
                             .collect();
-                        // The receiver lives until every worker is joined.
+                        // Refused only once the caller has stopped taking chunks (a panic).
                         if sender.send((chunk, each(decided))).is_err() {
                             return;
                         }
@@ -175,10 +175,12 @@ pub fn replay<T: Send>(
             })
             .collect();
         drop(sender);
-        // Chunks in by number; each handed on once all those before it are.
+        // Chunks in by number; each handed on once all those before it are. The queue is owned
+        // here, so a panic in `then` drops it and frees any worker waiting to send: the scope
+        // can then join them and raise the panic.
         let mut waiting = BTreeMap::new();
         let mut due = 0;
-        for (chunk, made) in received.iter() {
+        for (chunk, made) in received {
             waiting.insert(chunk, made);
             while let Some(made) = waiting.remove(&due) {
                 then(made);
@@ -385,5 +387,39 @@ impl fmt::Display for Summary {
             write!(f, "{}", self.errors_report())?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{CHUNK, Knowledge, parse_lines, replay};
+
+    /// A `then` that panics ends the replay with that panic, never a hang: the workers waiting
+    /// to hand on their chunks (far more chunks than the queue holds) are let go.
+    #[test]
+    fn a_panic_in_then_is_raised_not_a_hang() {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .build()
+            .unwrap();
+        // Each line a body without its directive: an error answer, at once.
+        let text = "{}\n".repeat(CHUNK * 40);
+        let lines = parse_lines(text.as_bytes());
+        let knowledge = Knowledge {
+            norms: Default::default(),
+            library: Default::default(),
+        };
+        let raised = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            replay(
+                &lines,
+                knowledge,
+                runtime.handle(),
+                &|_| {},
+                &|chunk| chunk.len(),
+                &mut |_| panic!("then failed"),
+            )
+        }));
+        let raised = raised.expect_err("the panic is raised");
+        assert_eq!(raised.downcast_ref::<&str>(), Some(&"then failed"));
     }
 }
