@@ -8,17 +8,113 @@
 
 use std::hash::{BuildHasher, Hash};
 
-use indexmap::{Equivalent, IndexSet};
+use indexmap::Equivalent;
 use rustc_hash::{FxBuildHasher, FxHashMap};
 
 use super::term::{Bound, Prehashed, Subst, Sym, Term};
 
-/// A set of facts that a term under a substitution ([`Bound`]) can be looked up in unbuilt.
-type Facts = IndexSet<Term, FxBuildHasher>;
-
-/// Up to this many facts, an overlay set is scanned: comparing a few terms costs less than
-/// hashing one.
+/// Up to this many facts, an overlay is a list that is scanned: comparing a few terms costs
+/// less than hashing one.
 const SCAN_AT_MOST: usize = 8;
+
+/// What one reading's simulation made true, or made false: facts in the order they came,
+/// each once, found by a term or by a term under a substitution ([`Bound`]) unbuilt. A reading
+/// changes a few facts, so until it holds more than [`SCAN_AT_MOST`] the overlay is only its
+/// list: no fact is hashed into it, and cloning it (once a reading) is one allocation. Past
+/// that, it keeps positions by hash beside the list, hashed as the base's set is.
+#[derive(Clone, Debug, Default)]
+struct Overlay {
+    facts: Vec<Term>,
+    /// Positions in `facts` by each fact's hash; `Some` exactly when there are more than
+    /// [`SCAN_AT_MOST`] facts.
+    index: Option<hashbrown::HashTable<u32>>,
+}
+
+impl Overlay {
+    fn len(&self) -> usize {
+        self.facts.len()
+    }
+
+    fn is_empty(&self) -> bool {
+        self.facts.is_empty()
+    }
+
+    fn iter(&self) -> std::slice::Iter<'_, Term> {
+        self.facts.iter()
+    }
+
+    fn position<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> Option<usize> {
+        match &self.index {
+            None => self.facts.iter().position(|f| fact.equivalent(f)),
+            Some(index) => {
+                let hash = FxBuildHasher.hash_one(fact);
+                index
+                    .find(hash, |&i| fact.equivalent(&self.facts[i as usize]))
+                    .map(|&i| i as usize)
+            }
+        }
+    }
+
+    fn get<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> Option<&Term> {
+        self.position(fact).map(|i| &self.facts[i])
+    }
+
+    fn contains<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> bool {
+        self.position(fact).is_some()
+    }
+
+    /// Adds `fact`; returns whether it was not here before.
+    fn insert(&mut self, fact: Term) -> bool {
+        if self.contains(&fact) {
+            return false;
+        }
+        self.push_absent(fact);
+        true
+    }
+
+    /// Adds `fact`, which the caller has found absent.
+    fn push_absent(&mut self, fact: Term) {
+        let position = self.facts.len() as u32;
+        let hash = self.index.as_ref().map(|_| FxBuildHasher.hash_one(&fact));
+        self.facts.push(fact);
+        match (&mut self.index, hash) {
+            (Some(index), Some(hash)) => {
+                let facts = &self.facts;
+                index.insert_unique(hash, position, |&i| FxBuildHasher.hash_one(&facts[i as usize]));
+            }
+            _ if self.facts.len() > SCAN_AT_MOST => self.reindex(),
+            _ => {}
+        }
+    }
+
+    /// Removes `fact`, keeping the others in order; returns whether it was here.
+    fn remove(&mut self, fact: &Term) -> bool {
+        let Some(position) = self.position(fact) else {
+            return false;
+        };
+        self.facts.remove(position);
+        // Positions after it moved: rare (a reading that retracts what it made true, with many
+        // facts made), so the index is made again rather than patched.
+        self.reindex();
+        true
+    }
+
+    /// Makes the index agree with the list: none up to [`SCAN_AT_MOST`] facts.
+    fn reindex(&mut self) {
+        if self.facts.len() <= SCAN_AT_MOST {
+            self.index = None;
+            return;
+        }
+        let hash_at = |facts: &[Term], i: u32| FxBuildHasher.hash_one(&facts[i as usize]);
+        let mut index = hashbrown::HashTable::with_capacity(self.facts.len() * 2);
+        for (position, fact) in self.facts.iter().enumerate() {
+            index.insert_unique(FxBuildHasher.hash_one(fact), position as u32, |&i| {
+                hash_at(&self.facts, i)
+            });
+        }
+        self.index = Some(index);
+    }
+}
 
 /// A fact's index key: its functor name and arity (`on/2`).
 pub type Key = (Sym, usize);
@@ -178,9 +274,9 @@ impl Base {
 pub struct World<'b> {
     base: &'b Base,
     /// Facts made true by the simulation that the base does not hold, in the order made true.
-    added: Facts,
+    added: Overlay,
     /// Base facts the simulation made false.
-    removed: Facts,
+    removed: Overlay,
     /// The bit of [`key_bit`] of every functor and arity ever added, whatever its word: a
     /// superset (a bit stays set when its fact is retracted, and keys share bits), so that a
     /// clear bit proves no added fact has the key.
@@ -191,8 +287,8 @@ impl<'b> World<'b> {
     pub fn new(base: &'b Base) -> World<'b> {
         World {
             base,
-            added: Facts::default(),
-            removed: Facts::default(),
+            added: Overlay::default(),
+            removed: Overlay::default(),
             added_keys: 0,
         }
     }
@@ -209,23 +305,13 @@ impl<'b> World<'b> {
     /// Whether the fact `fact` stands for holds. A small overlay (a reading changes a fact or
     /// two) is scanned rather than hashed into.
     fn holds_as<Q: Hash + Equivalent<Term> + ?Sized>(&self, fact: &Q) -> bool {
-        let in_small = |set: &Facts| match set.len() {
-            0 => false,
-            1..=SCAN_AT_MOST => set.iter().any(|f| fact.equivalent(f)),
-            _ => set.contains(fact),
-        };
-        in_small(&self.added) || (self.base.contains(fact) && !in_small(&self.removed))
+        self.added.contains(fact) || (self.base.contains(fact) && !self.removed.contains(fact))
     }
 
     /// The fact a ground key stands for, as this world holds it; `None` if it does not hold.
     pub fn find(&self, fact: Prehashed<'_>) -> Option<&Term> {
-        let in_added = match self.added.len() {
-            0 => None,
-            1..=SCAN_AT_MOST => self.added.iter().find(|f| fact.bound.equivalent(*f)),
-            _ => self.added.get(&fact),
-        };
-        if in_added.is_some() {
-            return in_added;
+        if let Some(added) = self.added.get(&fact) {
+            return Some(added);
         }
         let found = self.base.get(&fact)?;
         (self.removed.is_empty() || !self.removed.contains(found)).then_some(found)
@@ -246,21 +332,22 @@ impl<'b> World<'b> {
 
     /// Makes `fact` true; returns whether it was false before.
     pub fn assert(&mut self, fact: Term) -> bool {
+        // While the overlay is small, the base's lookup is the only hash of `fact`.
         if self.holds(&fact) {
             return false;
         }
-        if !self.removed.swap_remove(&fact) {
+        if !self.removed.remove(&fact) {
             if let Some(name) = fact.name() {
                 self.added_keys |= key_bit_of(name, fact.arity()).1;
             }
-            self.added.insert(fact);
+            self.added.push_absent(fact);
         }
         true
     }
 
     /// Makes `fact` false; returns whether it was true before.
     pub fn retract(&mut self, fact: &Term) -> bool {
-        if self.added.shift_remove(fact) {
+        if self.added.remove(fact) {
             return true;
         }
         if self.base.contains(fact) {
@@ -401,6 +488,53 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// An overlay is a list while small and hashed past `SCAN_AT_MOST`: through any asserts
+        /// and retracts (crossing that size both ways, in `added` and in `removed`), a world and
+        /// its copy hold exactly what a plain set would, each change says what the set says, and
+        /// the facts made true are listed in the order they were made true.
+        #[test]
+        fn a_world_agrees_with_a_plain_set_through_any_changes(
+            steps in proptest::collection::vec((proptest::bool::ANY, 0..24usize), 0..120),
+        ) {
+            let fact = |i: usize| t(&format!("at(o{i},p{})", i % 3));
+            // The even facts are the scene's; the odd ones only a simulation makes true.
+            let base = Base::new((0..24).step_by(2).map(fact));
+            let mut world = World::new(&base);
+            let mut held: std::collections::BTreeSet<usize> = (0..24).step_by(2).collect();
+            let mut made: Vec<usize> = Vec::new();
+            for (add, i) in steps {
+                if add {
+                    let changed = held.insert(i);
+                    if changed && i % 2 == 1 {
+                        made.push(i);
+                    }
+                    proptest::prop_assert_eq!(world.assert(fact(i)), changed);
+                } else {
+                    made.retain(|&m| m != i);
+                    proptest::prop_assert_eq!(world.retract(&fact(i)), held.remove(&i));
+                }
+                let copy = world.clone();
+                let none = Subst::new();
+                for one in [&world, &copy] {
+                    for j in 0..24 {
+                        let probe = fact(j);
+                        let key = Bound { term: &probe, subst: &none }.hashed().0;
+                        proptest::prop_assert_eq!(one.holds(&probe), held.contains(&j), "{}", probe);
+                        proptest::prop_assert_eq!(one.find(key).is_some(), held.contains(&j), "{}", probe);
+                    }
+                    let listed: Vec<String> = one.added().map(Term::to_string).collect();
+                    let expected: Vec<String> = made.iter().map(|&m| fact(m).to_string()).collect();
+                    proptest::prop_assert_eq!(listed, expected);
+                    let mut found = 0;
+                    one.solve(&[t("at(X,Y)")], &Subst::new(), &mut |_| {
+                        found += 1;
+                        true
+                    });
+                    proptest::prop_assert_eq!(found, held.len());
+                }
+            }
+        }
+
         /// `may_hold` may say yes wrongly, never no: after any asserts and retracts, a key
         /// some fact of the world has is always said to maybe hold.
         #[test]
