@@ -9,16 +9,29 @@ use rustc_hash::FxHashMap;
 use super::Scene;
 use crate::engine::term::{Sym, Term};
 
+/// How many distinct names a scene's map of them has room for from the start, at most.
+const NAMES_RESERVED: usize = 64;
+
 impl Scene {
     /// Every fact the scene states: for each object its type, properties and attributes, then
     /// `facts` as given. On one thread: the facts of one type share its name's count, which
     /// threads stating them side by side would take turns at (the bench's 10,000-object case
     /// took about a tenth longer with the facts stated on two threads).
     pub fn all_facts(&self) -> Vec<Term> {
-        let mut out = Vec::with_capacity(self.objects.len() * 2 + self.facts.len());
+        // An object states its type, each property and each attribute; an attribute names two.
+        let (stated, named) = (self.objects.iter()).fold((0, 0), |(stated, named), o| {
+            let (properties, attributes) = (o.properties.len(), o.attributes.len());
+            (
+                stated + 1 + properties + attributes,
+                named + 1 + properties + 2 * attributes,
+            )
+        });
+        let mut out = Vec::with_capacity(stated + self.facts.len());
         // Types, properties and attributes recur across objects: each is interned once here.
+        // Room for every name a small scene can have, so that its map never grows; a large
+        // scene repeats its names.
         let mut names: FxHashMap<&str, Sym> =
-            FxHashMap::with_capacity_and_hasher(self.objects.len().min(32), Default::default());
+            FxHashMap::with_capacity_and_hasher(named.min(NAMES_RESERVED), Default::default());
         let mut name = |text| names.entry(text).or_insert_with(|| Sym::new(text)).clone();
         for object in &self.objects {
             let id = Term::Const(Sym::new(&object.id));
