@@ -19,7 +19,7 @@ use serde_json::{Value, json};
 
 /// The service's allocator (`src/main.rs`), so that the engine is measured as it runs there.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: scruple::allocator::Allocator = scruple::allocator::Allocator;
 
 fn paper() -> Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/scenarios/paper-demo.json");

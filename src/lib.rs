@@ -1,6 +1,7 @@
 //! Scruple: simulate every reading of an ambiguous directive against the robot's norms and
 //! abilities, then ask, assume or explain without implying it would do something wrong.
 
+pub mod allocator;
 pub mod app;
 pub mod core;
 pub mod engine;

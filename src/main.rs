@@ -35,9 +35,10 @@ use tracing_subscriber::{EnvFilter, Layer, Registry};
 
 /// mimalloc instead of glibc's malloc: a request allocates and frees many small blocks across
 /// the runtime's threads, where glibc spent about a tenth of the service's time under load
-/// (BENCHMARKS.md, "Service under load").
+/// (BENCHMARKS.md, "Service under load"). Through `allocator::Allocator`, which says why not
+/// through `mimalloc::MiMalloc`.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: scruple::allocator::Allocator = scruple::allocator::Allocator;
 
 #[derive(Parser)]
 #[command(
