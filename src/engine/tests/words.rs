@@ -226,9 +226,14 @@ mod never_guess {
         "smash",
     ];
     const DETERMINERS: &[&str] = &["the", "a", "", "that"];
-    /// The lab's adjectives, and words it does not know.
-    const ADJECTIVES: &[&str] = &["red", "green", "fragile", "plastic", "wet", "blue", "shiny", "second"];
-    const NOUNS: &[&str] = &["vase", "notebook", "mug", "gizmo", "cup", "one", "vases"];
+    /// The lab's adjectives, and words it does not know: among them signs and emoji, which are
+    /// words too (dropping them made "the ★ vase" every vase).
+    const ADJECTIVES: &[&str] = &[
+        "red", "green", "fragile", "plastic", "wet", "blue", "shiny", "second", "★", "🏺", "#", "r3d",
+    ];
+    const NOUNS: &[&str] = &[
+        "vase", "notebook", "mug", "gizmo", "cup", "one", "vases", "vase™", "v@se",
+    ];
     const KNOWN_ADJECTIVES: &[&str] = &["red", "green", "fragile", "plastic"];
     const KNOWN_NOUNS: &[&str] = &["vase", "notebook", "mug", "one"];
 
@@ -410,5 +415,33 @@ fn a_verb_of_no_arguments_takes_no_reference() {
         let understood = understand(text, &lab(), &library, &[]);
         let is_wave = matches!(&understood, Understanding::Directive { directive: Directive::Action { verb, arguments }, .. } if verb == "wave" && arguments.is_empty());
         assert_eq!(is_wave, taken, "{text}: {understood:?}");
+    }
+}
+
+#[test]
+fn a_sign_or_an_emoji_is_a_word_not_known_and_the_robot_says_it() {
+    let norms = paper_norms();
+    for (text, unknown) in [
+        ("Get the ★ vase.", "the ★ vase"),
+        ("Get the 🏺.", "the 🏺"),
+        ("Get the vase™.", "the vase™"),
+        ("Destroy the # notebook!", "the # notebook"),
+    ] {
+        let d = run(&said(text), &lab(), &norms);
+        assert_eq!(d.kind, DecisionKind::Unresolved, "{text}: {}", d.utterance);
+        assert_eq!(
+            d.utterance,
+            format!("I do not know what you mean by {unknown}."),
+            "{text}"
+        );
+    }
+    // The punctuation of a sentence, quotes and invisible characters are still no words.
+    for text in [
+        "Get the «vase»!?",
+        "Get the “vase”…",
+        "Get the va\u{200b}se.",
+        "\u{feff}Get the vase.",
+    ] {
+        assert_eq!(run(&said(text), &lab(), &norms).kind, DecisionKind::Assume, "{text}");
     }
 }
