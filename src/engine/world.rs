@@ -75,15 +75,12 @@ impl Overlay {
     /// Adds `fact`, which the caller has found absent.
     fn push_absent(&mut self, fact: Term) {
         let position = self.facts.len() as u32;
-        let hash = self.index.as_ref().map(|_| FxBuildHasher.hash_one(&fact));
         self.facts.push(fact);
-        match (&mut self.index, hash) {
-            (Some(index), Some(hash)) => {
-                let facts = &self.facts;
-                index.insert_unique(hash, position, |&i| FxBuildHasher.hash_one(&facts[i as usize]));
-            }
-            _ if self.facts.len() > SCAN_AT_MOST => self.reindex(),
-            _ => {}
+        if let Some(index) = &mut self.index {
+            let facts = &self.facts;
+            index.insert_unique(hash_at(facts, position), position, |&i| hash_at(facts, i));
+        } else if self.facts.len() > SCAN_AT_MOST {
+            self.reindex();
         }
     }
 
@@ -105,15 +102,18 @@ impl Overlay {
             self.index = None;
             return;
         }
-        let hash_at = |facts: &[Term], i: u32| FxBuildHasher.hash_one(&facts[i as usize]);
         let mut index = hashbrown::HashTable::with_capacity(self.facts.len() * 2);
-        for (position, fact) in self.facts.iter().enumerate() {
-            index.insert_unique(FxBuildHasher.hash_one(fact), position as u32, |&i| {
-                hash_at(&self.facts, i)
-            });
+        for position in 0..self.facts.len() as u32 {
+            index.insert_unique(hash_at(&self.facts, position), position, |&i| hash_at(&self.facts, i));
         }
         self.index = Some(index);
     }
+}
+
+/// The hash of the fact at a position of `facts`, as the base's set and an overlay's index
+/// hash it: how either table finds, and rehashes, a position.
+fn hash_at(facts: &[Term], position: u32) -> u64 {
+    FxBuildHasher.hash_one(&facts[position as usize])
 }
 
 /// A fact's index key: its functor name and arity (`on/2`).
@@ -184,8 +184,6 @@ impl Base {
         let facts = facts.into_iter();
         let mut base = Base::default();
         base.facts.reserve(facts.size_hint().0);
-        // The table rehashes a position by hashing the fact there.
-        let hash_at = |facts: &[Term], i: u32| FxBuildHasher.hash_one(&facts[i as usize]);
         base.set.reserve(facts.size_hint().0, |&i| hash_at(&base.facts, i));
         // Each fact's group (its key's, numbered as keys first appear), and how many each has.
         let mut groups: Vec<u32> = Vec::with_capacity(facts.size_hint().0);
