@@ -163,7 +163,7 @@ fn understood(parse: &Parse, speaker: &Term, scene: &Scene) -> Understood {
                 words: p.words.clone(),
                 candidates: (scene.objects.iter())
                     .filter(|o| p.reference.matches(o))
-                    .map(|o| o.id.clone())
+                    .map(|o| o.id.to_string())
                     .collect(),
             })
             .collect(),

@@ -97,7 +97,7 @@ impl Reference {
 
     pub fn matches(&self, object: &Object) -> bool {
         match self {
-            Reference::Id(id) => &object.id == id,
+            Reference::Id(id) => object.id == id.as_str(),
             Reference::Described {
                 kind,
                 attributes,
@@ -113,7 +113,9 @@ impl Reference {
                 adjectives,
                 ..
             } => {
-                (kinds.is_empty() && named.is_empty() || kinds.contains(&object.kind) || named.contains(&object.id))
+                (kinds.is_empty() && named.is_empty()
+                    || kinds.contains(&object.kind)
+                    || named.iter().any(|n| object.id == n.as_str()))
                     && adjectives.iter().all(|senses| {
                         senses.iter().any(|sense| match sense {
                             Sense::Property(p) => object.properties.contains(p),
@@ -218,7 +220,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                         .objects
                         .iter()
                         .filter(|o| reference.matches(o))
-                        .map(|o| (Term::constant(&o.id), 1.0))
+                        .map(|o| (Term::Const(o.id.clone()), 1.0))
                         .collect();
                     let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
                     Slot {
@@ -251,8 +253,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                     let candidates: Vec<(Term, f64)> = given
                         .unwrap_or_default()
                         .iter()
-                        .filter(|c| scene.object(&c.id).is_some())
-                        .map(|c| (Term::constant(&c.id), c.score))
+                        .filter_map(|c| scene.object(&c.id).map(|o| (Term::Const(o.id.clone()), c.score)))
                         .collect();
                     let noun = common_noun(scene, &candidates);
                     Slot {
@@ -300,7 +301,7 @@ fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
         return false;
     };
     match answer {
-        Answer::Id(id) => &object.id == id,
+        Answer::Id(id) => object.id == id.as_str(),
         Answer::Reference(reference) => reference.matches(object),
         Answer::Choice(_) | Answer::Yes | Answer::No => true,
     }

@@ -6,8 +6,9 @@
 
 use std::collections::BTreeMap;
 
-use rustc_hash::FxHashMap;
 use std::sync::OnceLock;
+
+use hashbrown::HashTable;
 
 use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
@@ -17,7 +18,7 @@ use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, Cuboid, Cylinder};
 
 use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
-use super::term::Term;
+use super::term::{Sym, Term};
 
 mod facts;
 mod spoken;
@@ -54,7 +55,9 @@ pub enum Shape {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Object {
-    pub id: String,
+    /// Interned once, when the scene is checked: its facts, its index and every effect a
+    /// reading has on it share this one symbol.
+    pub id: Sym,
     pub kind: String,
     /// In the order given: the Incremental Algorithm tries them in this order.
     pub properties: Vec<String>,
@@ -72,8 +75,34 @@ pub struct Object {
     pub names: Vec<String>,
 }
 
-/// Each object's index in the scene's list, by its id.
-pub(super) type Ids = FxHashMap<String, usize>;
+/// Each object's index in the scene's list, found by its id. Keyed by the hash each id's
+/// symbol already holds, so an object's id is hashed once, when it is interned; an entry is
+/// only an index, read against the scene's list.
+#[derive(Debug, Default)]
+pub(super) struct Ids(HashTable<usize>);
+
+impl Ids {
+    /// The index of every object of `objects`, whose ids are unique: for scenes a test builds.
+    #[cfg(test)]
+    pub(super) fn of(objects: &[Object]) -> Ids {
+        let mut ids = Ids(HashTable::with_capacity(objects.len()));
+        for i in 0..objects.len() {
+            ids.insert(objects, i);
+        }
+        ids
+    }
+
+    /// Where `id` is in `objects`, the list this index was built over.
+    fn get(&self, objects: &[Object], id: &str) -> Option<usize> {
+        self.0.find(Sym::hash_of(id), |&i| objects[i].id == id).copied()
+    }
+
+    /// Adds `objects[i]`, whose id no object before it has.
+    fn insert(&mut self, objects: &[Object], i: usize) {
+        (self.0).insert_unique(objects[i].id.text_hash(), i, |&j| objects[j].id.text_hash());
+    }
+}
+
 /// A validated scene: ids are unique, geometry is finite and positive.
 #[derive(Debug)]
 pub struct Scene {
@@ -184,7 +213,7 @@ impl Agent {
 impl Object {
     /// Every field but the id's uniqueness, which only the scene can see; named relative to the
     /// object. The rotation is normalised.
-    fn from_input(o: ObjectInput) -> Result<Object, Invalid> {
+    fn from_input(id: Sym, o: ObjectInput) -> Result<Object, Invalid> {
         constant("/type", &o.kind, "a type")?;
         for (j, p) in o.properties.iter().enumerate() {
             constant("", p, "a property").map_err(|e| e.within(&format!("/properties/{j}")))?;
@@ -220,7 +249,7 @@ impl Object {
         }
         let names = names_of(o.names)?;
         Ok(Object {
-            id: o.id,
+            id,
             kind: o.kind,
             properties: o.properties,
             attributes: o.attributes,
@@ -273,18 +302,21 @@ impl Scene {
             ));
         }
         let agent = Agent::from_input(input.agent).map_err(|e| e.within("/agent"))?;
-        let mut by_id = FxHashMap::with_capacity_and_hasher(input.objects.len(), Default::default());
+        let mut by_id = Ids(HashTable::with_capacity(input.objects.len()));
         let mut objects = Vec::with_capacity(input.objects.len());
         for (i, o) in input.objects.into_iter().enumerate() {
             let at = || format!("/objects/{i}");
             constant("/id", &o.id, "an object id").map_err(|e| e.within(&at()))?;
-            if by_id.insert(o.id.clone(), i).is_some() {
+            // A duplicate is named before the object's other faults, as its id comes first.
+            if by_id.get(&objects, &o.id).is_some() {
                 return Err(Invalid::new(
                     format!("{}/id", at()),
                     format!("duplicate object id `{}`", o.id),
                 ));
             }
-            objects.push(Object::from_input(o).map_err(|e| e.within(&at()))?);
+            let id = Sym::new(&o.id);
+            objects.push(Object::from_input(id, o).map_err(|e| e.within(&at()))?);
+            by_id.insert(&objects, i);
         }
         let mut facts = Vec::with_capacity(input.facts.len());
         for (k, text) in input.facts.iter().enumerate() {
@@ -315,11 +347,11 @@ impl Scene {
     }
 
     pub fn object(&self, id: &str) -> Option<&Object> {
-        self.by_id.get(id).map(|&i| &self.objects[i])
+        self.index_of(id).map(|i| &self.objects[i])
     }
 
     pub fn index_of(&self, id: &str) -> Option<usize> {
-        self.by_id.get(id).copied()
+        self.by_id.get(&self.objects, id)
     }
 
     /// Whether the agent can touch the object: the distance from the agent's position to the

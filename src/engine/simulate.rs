@@ -534,18 +534,18 @@ impl Run<'_, '_> {
                 continue;
             };
             if scene.within_reach(&object.id) != Some(true) {
-                let object = Sym::from(object.id.as_str());
+                let object = object.id.clone();
                 self.push(Reason::infeasible(Cause::Unreachable { object }));
             } else if let Some(obstacle) = scene.blocked_by(&object.id) {
                 self.push(Reason::infeasible(Cause::Blocked {
-                    object: Sym::from(object.id.as_str()),
-                    by: Sym::from(obstacle.id.as_str()),
+                    object: object.id.clone(),
+                    by: obstacle.id.clone(),
                 }));
             }
         }
         let agent = &scene.agent;
         for object in def.grasp.iter().filter_map(object_of) {
-            let id = || Sym::from(object.id.as_str());
+            let id = || object.id.clone();
             if agent
                 .gripper_aperture
                 .is_some_and(|aperture| grasp_width(object) > aperture)
@@ -564,8 +564,8 @@ impl Run<'_, '_> {
             && !room_on(support, item)
         {
             self.push(Reason::infeasible(Cause::NoRoom {
-                item: Sym::from(item.id.as_str()),
-                support: Sym::from(support.id.as_str()),
+                item: item.id.clone(),
+                support: support.id.clone(),
             }));
         }
         if let Some(before) = before {

@@ -210,7 +210,7 @@ fn shard_of(hash: u64) -> &'static Mutex<Shard> {
 
 impl Sym {
     pub fn new(text: &str) -> Sym {
-        let hash = FxBuildHasher.hash_one(text);
+        let hash = Sym::hash_of(text);
         if let Some(name) = near(hash, text) {
             // Lasting: not counted.
             return Sym(name);
@@ -266,6 +266,17 @@ impl Sym {
 
     pub fn as_str(&self) -> &str {
         &self.name().text
+    }
+
+    /// The hash of a text, as its symbol keeps it: a table keyed by symbols' [`Sym::text_hash`]
+    /// finds one by text alone, without interning it.
+    pub fn hash_of(text: &str) -> u64 {
+        FxBuildHasher.hash_one(text)
+    }
+
+    /// The hash of this symbol's text ([`Sym::hash_of`]), computed when it was interned.
+    pub fn text_hash(&self) -> u64 {
+        self.name().hash
     }
 }
 

@@ -34,7 +34,7 @@ impl Scene {
             FxHashMap::with_capacity_and_hasher(named.min(NAMES_RESERVED), Default::default());
         let mut name = |text| names.entry(text).or_insert_with(|| Sym::new(text)).clone();
         for object in &self.objects {
-            let id = Term::Const(Sym::new(&object.id));
+            let id = Term::Const(object.id.clone());
             out.push(Term::Compound(name(&object.kind), Arc::from([id.clone()])));
             for property in &object.properties {
                 out.push(Term::Compound(name(property), Arc::from([id.clone()])));

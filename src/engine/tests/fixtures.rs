@@ -107,7 +107,7 @@ pub(super) fn lab_objects() -> Vec<Object> {
 impl Scene {
     /// A scene of a test's fixtures, values already checked.
     pub(crate) fn new(agent: Agent, objects: Vec<Object>, facts: Vec<Term>) -> Scene {
-        let by_id = objects.iter().enumerate().map(|(i, o)| (o.id.clone(), i)).collect();
+        let by_id = crate::engine::scene::Ids::of(&objects);
         Scene::indexed(agent, objects, facts, by_id)
     }
 }

@@ -28,6 +28,7 @@ mod paper;
 mod plans;
 mod runner;
 mod safety;
+mod scenes;
 mod soft;
 mod verbs;
 mod words;

@@ -26,7 +26,7 @@ fn read(text: &str, scene: &Scene) -> Result<Read, (Unclear, String)> {
                 .map(|r| {
                     (scene.objects.iter())
                         .filter(|o| r.matches(o))
-                        .map(|o| o.id.clone())
+                        .map(|o| o.id.to_string())
                         .collect()
                 })
                 .collect();

@@ -71,8 +71,8 @@ impl<'a> Lexicon<'a> {
             if spoken_is(&o.kind, &wanted, &mut buffer) && !noun.kinds.contains(&o.kind) {
                 noun.kinds.push(o.kind.clone());
             }
-            if o.names.contains(&wanted) && !noun.named.contains(&o.id) {
-                noun.named.push(o.id.clone());
+            if o.names.contains(&wanted) && !noun.named.iter().any(|n| o.id == n.as_str()) {
+                noun.named.push(o.id.to_string());
             }
         }
         noun.kinds.sort();
