@@ -1,6 +1,6 @@
 //! Engine benchmarks: the paper's "Get the vase." (structured and in words, and with 100 soft
 //! norms beside the paper's), reading the paper's sentence against the office, readings ×
-//! objects × norms, and the cost of one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
+//! objects × norms, checking a request's scene, and the cost of one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
 //!
 //! The scene is built once per benchmark and reused, as the engine sees one per request: its
 //! per-request caches (reach, clearance) are warm after the first iteration.
@@ -8,7 +8,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use scruple::engine::input::RequestLimits;
 use scruple::engine::norms::{CompiledNorms, Norm};
 use scruple::engine::request::{Checked, Request};
@@ -205,6 +205,28 @@ fn bench_readings(c: &mut Criterion) {
     group.finish();
 }
 
+/// Checking a request of one reading over a scene of 10 or 10,000 objects: what each request
+/// pays before the engine decides, so that work moved between checking and deciding shows.
+fn bench_checking(c: &mut Criterion) {
+    let mut group = c.benchmark_group("checking");
+    group.sample_size(10).measurement_time(Duration::from_secs(3));
+    for objects_count in [10usize, 10_000] {
+        let body: ClarifyBody = serde_json::from_value(json!({
+            "directive": {"form": "did(self,put(X,Y))", "bindings": {"X": ["o0"], "Y": ["o1"]}},
+            "scene": {"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects(objects_count)},
+        }))
+        .unwrap();
+        group.bench_with_input(BenchmarkId::new("objects", objects_count), &body, |bench, body| {
+            bench.iter_batched(
+                || body.clone(),
+                |body| Request::from_input(body.into(), &RequestLimits::default()).unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
 fn bench_world_copy(c: &mut Criterion) {
     let mut group = c.benchmark_group("world_copy");
     for count in [10usize, 10_000] {
@@ -229,5 +251,5 @@ fn bench_world_copy(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_paper, bench_readings, bench_world_copy);
+criterion_group!(benches, bench_paper, bench_readings, bench_checking, bench_world_copy);
 criterion_main!(benches);
