@@ -5,11 +5,9 @@
 //! parse JSON or know about norms; a `Scene` that exists is valid.
 
 use std::collections::BTreeMap;
-
 use std::sync::OnceLock;
 
 use hashbrown::HashTable;
-
 use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Isometry, Point, Real, Translation, Vector};
 use parry3d::na::{Quaternion, UnitQuaternion};
@@ -78,7 +76,7 @@ pub struct Object {
 /// Each object's index in the scene's list, found by its id. Keyed by the hash each id's
 /// symbol already holds, so an object's id is hashed once, when it is interned; an entry is
 /// only an index, read against the scene's list.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct Ids(HashTable<usize>);
 
 impl Ids {
@@ -99,7 +97,8 @@ impl Ids {
 
     /// Adds `objects[i]`, whose id no object before it has.
     fn insert(&mut self, objects: &[Object], i: usize) {
-        (self.0).insert_unique(objects[i].id.text_hash(), i, |&j| objects[j].id.text_hash());
+        self.0
+            .insert_unique(objects[i].id.text_hash(), i, |&j| objects[j].id.text_hash());
     }
 }
 
