@@ -95,6 +95,12 @@ impl Ids {
         self.0.find(Sym::hash_of(id), |&i| objects[i].id == id).copied()
     }
 
+    /// Whether an object of `objects` has the id `id`: by the hash the symbol holds, and one
+    /// comparison of symbols, so the text is not hashed again.
+    fn has(&self, objects: &[Object], id: &Sym) -> bool {
+        self.0.find(id.text_hash(), |&i| objects[i].id == *id).is_some()
+    }
+
     /// Adds `objects[i]`, whose id no object before it has.
     fn insert(&mut self, objects: &[Object], i: usize) {
         self.0
@@ -306,14 +312,14 @@ impl Scene {
         for (i, o) in input.objects.into_iter().enumerate() {
             let at = || format!("/objects/{i}");
             constant("/id", &o.id, "an object id").map_err(|e| e.within(&at()))?;
+            let id = Sym::new(&o.id);
             // A duplicate is named before the object's other faults, as its id comes first.
-            if by_id.get(&objects, &o.id).is_some() {
+            if by_id.has(&objects, &id) {
                 return Err(Invalid::new(
                     format!("{}/id", at()),
                     format!("duplicate object id `{}`", o.id),
                 ));
             }
-            let id = Sym::new(&o.id);
             objects.push(Object::from_input(id, o).map_err(|e| e.within(&at()))?);
             by_id.insert(&objects, i);
         }
