@@ -23,7 +23,11 @@ case $floor_kind in
   *) echo "bench-load: FLOOR is typed or value, not $floor_kind" >&2; exit 2 ;;
 esac
 need_tools wrk h2load
-cargo build --release --quiet --bin scruple --example floor --example grpc_body
+# The server alone first: built with the examples, its dependencies' features would be unified
+# with the dev-dependencies', and it would not be the binary `cargo build --release` makes (nor
+# laid out by link/hot-text.ld, whose exact symbols are that build's).
+cargo build --release --quiet --bin scruple
+cargo build --release --quiet --example floor --example grpc_body
 work=$(mktemp -d)
 pids=()
 # The servers start in `$(...)`, a subshell, so their pids are read back from their files.

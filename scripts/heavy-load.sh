@@ -14,7 +14,9 @@ clients=${1:-64}
 seconds=${2:-30}
 binary=${3:-target/release/scruple}
 if [ "$binary" = target/release/scruple ]; then
-  cargo build --release --quiet --bin scruple --example heavy_load
+  # Apart, so the server is the one `cargo build --release` makes (scripts/bench-load.sh says why).
+  cargo build --release --quiet --bin scruple
+  cargo build --release --quiet --example heavy_load
   generator=target/release/examples/heavy_load
 else
   cargo build --quiet --example heavy_load
