@@ -24,8 +24,8 @@ case $floor_kind in
 esac
 need_tools wrk h2load
 # The server alone first: built with the examples, its dependencies' features would be unified
-# with the dev-dependencies', and it would not be the binary `cargo build --release` makes (nor
-# laid out by link/hot-text.ld, whose exact symbols are that build's).
+# with the dev-dependencies', and it would not be the binary `cargo build --release` makes: its
+# symbols' hashes would differ, and link/hot-text.ld names a generic's instances by theirs.
 cargo build --release --quiet --bin scruple
 cargo build --release --quiet --example floor --example grpc_body
 work=$(mktemp -d)
