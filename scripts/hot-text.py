@@ -84,10 +84,9 @@ def c3(edges, sizes, min_calls):
             i, j = index[a], index[b]
             if n > best[j][1]:
                 best[j] = (i, n)
-    size = [sizes[n] for n in nodes]
     leader = list(range(len(nodes)))
     members = [[i] for i in range(len(nodes))]
-    csize, cweight = size[:], weight[:]
+    csize, cweight = [sizes[n] for n in nodes], weight[:]
 
     def find(i):
         while leader[i] != i:
@@ -100,8 +99,8 @@ def c3(edges, sizes, min_calls):
 
     # Densest first; ties by name, so the same profile always gives the same script.
     for i in sorted(range(len(nodes)), key=lambda i: (-density(i), nodes[i])):
-        pred, calls = best[i]
-        if pred < 0 or calls * 10 <= weight[i]:
+        pred, heaviest = best[i]
+        if pred < 0 or heaviest * 10 <= weight[i]:
             continue
         c, p = find(i), find(pred)
         if c == p or csize[c] + csize[p] > MAX_CLUSTER:
