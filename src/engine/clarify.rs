@@ -144,12 +144,10 @@ fn understood(parse: &Parse, speaker: &Term, scene: &Scene) -> Understood {
     const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
     let arguments = (0..parse.references.len())
         .map(|i| {
-            Term::Var(Sym::from(
-                VARIABLES
-                    .get(i)
-                    .map_or_else(|| format!("X{i}"), |v| (*v).to_owned())
-                    .as_str(),
-            ))
+            Term::Var(match VARIABLES.get(i) {
+                Some(v) => Sym::from(*v),
+                None => Sym::from(format!("X{i}").as_str()),
+            })
         })
         .collect();
     let action = Term::compound(&parse.verb, arguments);

@@ -334,7 +334,7 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let (noun, head) = if body[body.len() - 1] == "one" {
         (Noun::default(), 1)
     } else {
-        let longest = lexicon.longest().min(body.len());
+        let longest = lexicon.longest_within(body.len());
         match (1..=longest)
             .rev()
             .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k, n)))
@@ -347,7 +347,7 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let mut i = 0;
     let before = body.len() - head;
     while i < before {
-        let longest = lexicon.longest().min(before - i);
+        let longest = lexicon.longest_within(before - i);
         match (1..=longest)
             .rev()
             .find_map(|n| lexicon.adjective(&body[i..i + n]).map(|s| (s, n)))

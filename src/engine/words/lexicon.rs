@@ -7,6 +7,9 @@
 //! Looks words up in the scene as asked, rather than indexing every object first: a sentence
 //! asks about a handful of phrases, a scene may hold thousands of objects.
 
+use std::borrow::Cow;
+use std::cell::OnceCell;
+
 use crate::engine::action::{Library, VerbPhrase};
 use crate::engine::resolve::Sense;
 use crate::engine::scene::{Scene, spoken_into, spoken_is};
@@ -23,8 +26,9 @@ pub struct Noun {
 pub struct Lexicon<'a> {
     scene: &'a Scene,
     pub verbs: &'a [VerbPhrase],
-    /// Longest noun or adjective phrase, in words.
-    longest: usize,
+    /// Longest noun or adjective phrase, in words: counted from the scene's names the first
+    /// time a phrase of more than one word is in question, which most sentences never ask.
+    longest: OnceCell<usize>,
 }
 
 /// How many words `name` is spoken as: `cash_box` is two, `pointTo` two.
@@ -36,42 +40,32 @@ fn spoken_words(name: &str) -> usize {
 
 impl<'a> Lexicon<'a> {
     pub fn new(scene: &'a Scene, library: &'a Library) -> Lexicon<'a> {
-        let mut longest = 1;
-        for o in &scene.objects {
-            // Most names are one word; only those that may have a separator are counted out.
-            // One pass over the bytes: any non-ASCII byte may be part of an upper-case letter
-            // (a word boundary), so such a name is counted out too.
-            let separated = |n: &str| {
-                n.bytes()
-                    .any(|b| b == b'_' || b == b' ' || b.is_ascii_uppercase() || !b.is_ascii())
-            };
-            for name in std::iter::once(&o.kind)
-                .chain(&o.properties)
-                .chain(o.attributes.values())
-                .chain(&o.names)
-            {
-                if separated(name) {
-                    longest = longest.max(spoken_words(name));
-                }
-            }
-        }
         Lexicon {
             scene,
             verbs: library.phrases(),
-            longest,
+            longest: OnceCell::new(),
         }
+    }
+
+    /// The most words, of `n` at hand, one noun or adjective phrase may take: `n` itself when
+    /// it is one or none, without looking at the scene.
+    pub fn longest_within(&self, n: usize) -> usize {
+        if n <= 1 {
+            return n;
+        }
+        n.min(*self.longest.get_or_init(|| longest_phrase(self.scene)))
     }
 
     /// What `words` names, if it is a noun here.
     pub fn noun(&self, words: &[String]) -> Option<Noun> {
-        let wanted = words.join(" ");
+        let wanted = phrase(words);
         let mut buffer = String::new();
         let mut noun = Noun::default();
         for o in &self.scene.objects {
             if spoken_is(&o.kind, &wanted, &mut buffer) && !noun.kinds.contains(&o.kind) {
                 noun.kinds.push(o.kind.clone());
             }
-            if o.names.contains(&wanted) && !noun.named.iter().any(|n| o.id == n.as_str()) {
+            if o.names.iter().any(|n| *n == wanted) && !noun.named.iter().any(|n| o.id == n.as_str()) {
                 noun.named.push(o.id.to_string());
             }
         }
@@ -82,7 +76,7 @@ impl<'a> Lexicon<'a> {
 
     /// What `words` may mean as an adjective, if it is one here.
     pub fn adjective(&self, words: &[String]) -> Option<Vec<Sense>> {
-        let wanted = words.join(" ");
+        let wanted = phrase(words);
         let mut buffer = String::new();
         let mut senses: Vec<Sense> = Vec::new();
         let mut add = |sense: Sense| {
@@ -108,10 +102,37 @@ impl<'a> Lexicon<'a> {
         senses.sort();
         (!senses.is_empty()).then_some(senses)
     }
+}
 
-    /// The longest noun or adjective phrase, in words.
-    pub fn longest(&self) -> usize {
-        self.longest
+/// The longest noun or adjective phrase `scene`'s names make, in words (at least one).
+fn longest_phrase(scene: &Scene) -> usize {
+    let mut longest = 1;
+    for o in &scene.objects {
+        // Most names are one word; only those that may have a separator are counted out.
+        // One pass over the bytes: any non-ASCII byte may be part of an upper-case letter
+        // (a word boundary), so such a name is counted out too.
+        let separated = |n: &str| {
+            n.bytes()
+                .any(|b| b == b'_' || b == b' ' || b.is_ascii_uppercase() || !b.is_ascii())
+        };
+        for name in std::iter::once(&o.kind)
+            .chain(&o.properties)
+            .chain(o.attributes.values())
+            .chain(&o.names)
+        {
+            if separated(name) {
+                longest = longest.max(spoken_words(name));
+            }
+        }
+    }
+    longest
+}
+
+/// `words` as one phrase: a lone word as it is, several joined by spaces.
+fn phrase(words: &[String]) -> Cow<'_, str> {
+    match words {
+        [one] => Cow::Borrowed(one),
+        _ => Cow::Owned(words.join(" ")),
     }
 }
 
