@@ -166,6 +166,7 @@ fn bench_paper(c: &mut Criterion) {
                 &office.scene,
                 &library,
                 &[],
+                &|| false,
             )
         })
     });

@@ -18,15 +18,16 @@ use knowledge::{Leased, Readiness, Source};
 use crate::engine::Library;
 use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, CheckInput, CheckRequest, check};
-use crate::engine::clarify::clarify;
+use crate::engine::clarify::{clarify, clarify_read, read_words};
 use crate::engine::decision::Decision;
 pub use crate::engine::input::{
     DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES, RequestLimits,
 };
 use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
-use crate::engine::request::{Checked, Directive, Request, RequestInput};
+use crate::engine::request::{Answer, Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
+use crate::engine::words::Understanding;
 use crate::error::Error;
 use crate::metrics::Metrics;
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
@@ -86,10 +87,54 @@ fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
 /// are decided on the calling task (see `clarify`); the rest go to the blocking pool, so a
 /// costly one never holds a runtime thread that health checks need. A step costs a few
 /// microseconds (BENCHMARKS.md: about 4 µs a reading at 1,000 objects), so the most a request
-/// decided inline can hold a runtime thread is about a millisecond. Words are bounded by the
-/// objects squared before they are read: at 32, the paper's five-object scene asked in words
-/// went through the blocking pool and a costly turn, a thread handoff for microseconds of work.
+/// decided inline can hold a runtime thread is about a millisecond. Words in a small scene are
+/// read first and admitted by the readings they give (see [`read_first`]).
 const INLINE_STEPS: u128 = 256;
+
+/// Words are read before admission when the scene's names to be read against them (in bytes,
+/// with a few for each name's entry) are at most this: reading them then costs less than
+/// handing the request to another thread, and the decision is admitted by the readings the
+/// words give rather than by every pair of objects (64 clients of "Get the plastic vase." on
+/// 200 objects were refused where the same request structured was not).
+const READ_FIRST_BYTES: usize = 32 * 1024;
+
+/// Whether `request`'s words are read before it is admitted: only words in a scene with few
+/// enough names, so that reading them never holds a runtime thread long.
+fn read_first(request: &Request, scene: &Scene) -> bool {
+    if !matches!(request.directive, Directive::Words { .. }) {
+        return false;
+    }
+    let mut bytes = 0usize;
+    for o in &scene.objects {
+        bytes += 16 + o.kind.len();
+        bytes += o.names.iter().chain(&o.properties).map(|n| 16 + n.len()).sum::<usize>();
+        bytes += o.attributes.values().map(|v| 16 + v.len()).sum::<usize>();
+        if bytes > READ_FIRST_BYTES {
+            return false;
+        }
+    }
+    true
+}
+
+/// The steps a request read first may take: its readings (each reference's matches, multiplied)
+/// times its verb's expansion; nothing for words that are not a directive. An answer that is a
+/// new directive in words is not read yet: the bound of every pair of objects stands for it.
+fn steps_read(request: &Request, read: &Understanding, scene: &Scene, library: &Library) -> u128 {
+    if matches!(request.answer, Some(Answer::Words(_))) {
+        return at_most_readings(&request.directive, scene).saturating_mul(u128::from(library.most_expansion()));
+    }
+    let Understanding::Directive { directive, .. } = read else {
+        return 0;
+    };
+    let readings = match directive {
+        Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, reference| {
+            let matches = scene.objects.iter().filter(|o| reference.matches(o)).count();
+            n.saturating_mul(matches as u128)
+        }),
+        other => at_most_readings(other, scene),
+    };
+    readings.saturating_mul(u128::from(expansion_of(directive, library)))
+}
 
 /// Requests that may cost more than this many simulated steps (about 100 ms of a core at the
 /// 4 µs a step of BENCHMARKS.md) are heavy: they take one of fewer turns than the cores, so a
@@ -222,8 +267,12 @@ impl Core {
         let deadline = arrived + deadline;
         let (_guard, expired) = stop_signal(deadline);
         let Knowledge { norms, library } = self.knowledge_by(deadline).await?;
-        let steps = at_most_readings(&request.directive, &scene)
-            .saturating_mul(u128::from(expansion_of(&request.directive, &library)));
+        let read = read_first(&request, &scene).then(|| read_words(&request, &scene, &library, &expired));
+        let steps = match &read {
+            Some(Some(understood)) => steps_read(&request, understood, &scene, &library),
+            _ => at_most_readings(&request.directive, &scene)
+                .saturating_mul(u128::from(expansion_of(&request.directive, &library))),
+        };
         let turn = self.turn_for(steps, deadline).await?;
         let small = turn.is_none();
         let speaker = request.speaker.clone();
@@ -231,7 +280,10 @@ impl Core {
         let decide = move || {
             let _turn = turn;
             let _running = InFlight::new(&metrics);
-            clarify(&request, &scene, &norms, &library, &expired)
+            match read {
+                Some(read) => clarify_read(&request, read, &scene, &norms, &library, &expired),
+                None => clarify(&request, &scene, &norms, &library, &expired),
+            }
         };
         // A small request (most are) is decided in microseconds: handing it to another thread
         // would cost more than the decision. Large ones go to the blocking pool.

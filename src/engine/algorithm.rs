@@ -121,5 +121,6 @@ pub(super) fn plan_kind(plan: &Plan) -> DecisionKind {
         Plan::Explain(_) => DecisionKind::Explain,
         Plan::Unresolved(_) => DecisionKind::Unresolved,
         Plan::NotUnderstood { .. } => DecisionKind::NotUnderstood,
+        Plan::Cancelled => DecisionKind::Cancelled,
     }
 }

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::action::Library;
 use super::algorithm::{decide, kept, plan_kind};
-use super::decision::{Act, ReferenceParse, Unclear, Understood};
+use super::decision::{Act, DecisionKind, ReferenceParse, Unclear, Understood, Unfound};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
@@ -39,6 +39,8 @@ pub const PARALLEL_FROM: usize = 128;
 /// the readings are made (see [`presort`]), when they are at most an eighth of the readings. A
 /// hint that only spares the sort: below this the sort is a few microseconds either way.
 const PRESORT_FROM: usize = 64;
+/// Candidates described for the presort between two looks at the deadline.
+const PRESORT_LOOK: usize = 32;
 /// At most this many readings are simulated by one thread between two looks at the deadline
 /// when running in parallel: tens of microseconds of work, against a look that reads a clock.
 const SIMULATE_CHUNK: usize = 64;
@@ -48,8 +50,10 @@ const SIMULATE_CHUNK: usize = 64;
 const DESCRIBE_APART_FROM: usize = 2048;
 /// Facts from which a decision's fact base is freed on rayon's pool rather than by the caller.
 const LARGE_BASE: usize = 4096;
-/// Readings described between two looks at the deadline.
+/// Readings described by one task of the pool (each looks at the deadline as it goes).
 const PREPARE_BATCH: usize = 1024;
+/// Readings described between two looks at the deadline.
+const DESCRIBE_LOOK: usize = 64;
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EngineError {
@@ -79,8 +83,8 @@ impl Ord for Score {
 
 /// Decides what to say about `request` in `scene`, under `norms`, with `library`'s verbs.
 /// `expired` tells whether the request's deadline has passed (or its client has gone); it is
-/// asked while the readings are described, before each chunk of them is simulated, and before
-/// every step a plan expands.
+/// asked while the words are read, while the readings are described, before each chunk of them
+/// is simulated, and before every step a plan expands.
 pub fn clarify(
     request: &Request,
     scene: &Scene,
@@ -88,14 +92,91 @@ pub fn clarify(
     library: &Library,
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Result<Decision, EngineError> {
+    let read = read_words(request, scene, library, expired);
+    clarify_read(request, read, scene, norms, library, expired)
+}
+
+/// What the request's words are read as, before anything is decided: `None` for a structured
+/// directive. Reading is bounded by the words and the scene's names, not by the readings they
+/// may give, so a caller may read first and admit the decision by what was read.
+pub fn read_words(
+    request: &Request,
+    scene: &Scene,
+    library: &Library,
+    expired: &(dyn Fn() -> bool + Sync),
+) -> Option<Understanding> {
     let Directive::Words { text } = &request.directive else {
-        return decide_directive(request, &request.directive, scene, norms, library, expired);
+        return None;
     };
-    // The words first: what they are read as is decided as the structured directive would be.
+    Some(words::understand(text, scene, library, &request.focus, expired))
+}
+
+/// [`clarify`], with the words already read by [`read_words`] (for the same request, scene and
+/// library).
+pub fn clarify_read(
+    request: &Request,
+    read: Option<Understanding>,
+    scene: &Scene,
+    norms: &CompiledNorms,
+    library: &Library,
+    expired: &(dyn Fn() -> bool + Sync),
+) -> Result<Decision, EngineError> {
     let speaker = Term::Const(request.speaker.clone());
-    match words::understand(text, scene, library, &request.focus) {
+    let not_read = |why: Unclear, words: String, limits: Option<Limits>| {
+        let mut describer = Describer::new(scene, library);
+        let plan = Plan::NotUnderstood { why, words };
+        let mut decision = render(
+            &speaker,
+            request.options.style,
+            plan,
+            Vec::new(),
+            limits,
+            norms.version,
+            &mut describer,
+        );
+        decision.library_version = library.version;
+        decision.parse = Some(not_a_directive(why));
+        decision
+    };
+    let deadline = Limits {
+        kind: LimitKind::Deadline,
+        readings: 0,
+        simulated: 0,
+    };
+    // An answer in words is read against the verbs in force; a whole new directive is decided
+    // as if it had been said first.
+    let answer = match &request.answer {
+        Some(Answer::Words(text)) => {
+            let answer = words::understand_answer(text, scene, library, expired);
+            if expired() {
+                return Ok(not_read(Unclear::Deadline, String::new(), Some(deadline)));
+            }
+            Some(answer)
+        }
+        other => other.clone(),
+    };
+    if let Some(Answer::Directive(text)) = &answer {
+        let afresh = Request {
+            directive: Directive::Words { text: text.clone() },
+            answer: None,
+            ..request.clone()
+        };
+        return clarify(&afresh, scene, norms, library, expired);
+    }
+    let Some(understanding) = read else {
+        return decide_directive(
+            request,
+            answer.as_ref(),
+            &request.directive,
+            scene,
+            norms,
+            library,
+            expired,
+        );
+    };
+    match understanding {
         Understanding::Directive { directive, parse } => {
-            let mut decision = decide_directive(request, &directive, scene, norms, library, expired)?;
+            let mut decision = decide_directive(request, answer.as_ref(), &directive, scene, norms, library, expired)?;
             // An answer that was not understood says why, beside what the directive was read as.
             let unclear = decision.parse.as_ref().and_then(|p| p.unclear);
             decision.parse = Some(Understood {
@@ -104,25 +185,8 @@ pub fn clarify(
             });
             Ok(decision)
         }
-        Understanding::NotUnderstood { why, words } => {
-            let mut describer = Describer::new(scene, library);
-            let plan = Plan::NotUnderstood {
-                why,
-                words: words.clone(),
-            };
-            let mut decision = render(
-                &speaker,
-                request.options.style,
-                plan,
-                Vec::new(),
-                None,
-                norms.version,
-                &mut describer,
-            );
-            decision.library_version = library.version;
-            decision.parse = Some(not_a_directive(why));
-            Ok(decision)
-        }
+        Understanding::NotUnderstood { why, words } => Ok(not_read(why, words, None)),
+        Understanding::Expired => Ok(not_read(Unclear::Deadline, String::new(), Some(deadline))),
     }
 }
 
@@ -180,12 +244,14 @@ fn any_will_do(directive: &Directive, slots: &[super::resolve::Slot]) -> bool {
         .zip(slots)
         .filter(|(_, slot)| slot.candidates.len() > 1)
         .peekable();
-    open.peek().is_some() && open.all(|(argument, _)| matches!(argument, Reference::Spoken { indefinite: true, .. }))
+    open.peek().is_some() && open.all(|(argument, _)| argument.indefinite())
 }
 
-/// Decides `directive` (the request's own, or the one its words were read as).
+/// Decides `directive` (the request's own, or the one its words were read as), with the answer
+/// to a question about it, if any.
 fn decide_directive(
     request: &Request,
+    answer: Option<&Answer>,
     directive: &Directive,
     scene: &Scene,
     norms: &CompiledNorms,
@@ -209,20 +275,40 @@ fn decide_directive(
         decision
     };
 
+    // "never mind" takes back what a question asked: it answers only a question.
+    if let Some(Answer::Cancel(words)) = answer {
+        let asked = decide_directive(request, None, directive, scene, norms, library, expired)?;
+        let plan = match asked.kind {
+            DecisionKind::Ask | DecisionKind::Confirm => Plan::Cancelled,
+            _ => Plan::NotUnderstood {
+                why: Unclear::Unasked,
+                words: words.clone(),
+            },
+        };
+        let mut decision = finish(plan, Vec::new(), None, &mut describer);
+        if asked.kind != DecisionKind::Ask && asked.kind != DecisionKind::Confirm {
+            decision.parse = Some(not_a_directive(Unclear::Unasked));
+        }
+        return Ok(decision);
+    }
+
     let (template, mut slots) = slots(directive, scene);
-    let missing: Vec<String> = slots
+    let missing: Vec<Unfound> = slots
         .iter()
         .filter(|s| s.candidates.is_empty())
-        .map(|s| s.words.clone())
+        .map(|s| Unfound {
+            words: s.words.clone(),
+            unplaced: s.unplaced.clone(),
+        })
         .collect();
     if !missing.is_empty() {
         return Ok(finish(Plan::Unresolved(missing), Vec::new(), None, &mut describer));
     }
-    presort(&mut slots, &mut describer);
-    let narrowed = match &request.answer {
-        Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => Some(Narrowed::new(answer, &slots, scene)),
+    let narrowing = match answer {
+        Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => Some(answer),
         _ => None,
     };
+    let narrowed = narrowing.map(|answer| Narrowed::new(answer, &slots, scene));
     let count = match &narrowed {
         Some(narrowed) => narrowed.count(),
         None => slots
@@ -250,6 +336,12 @@ fn decide_directive(
         ));
     }
 
+    // Only readings that will be simulated are worth putting in order: the order of a few
+    // candidates is a hint to the sort, given up at the deadline.
+    let narrowed = match presort(&mut slots, &mut describer, expired) {
+        true => narrowing.map(|answer| Narrowed::new(answer, &slots, scene)),
+        false => narrowed,
+    };
     let chosen = match &narrowed {
         Some(narrowed) => narrowed.combinations(),
         None => combinations(&slots.iter().map(|s| s.candidates.as_slice()).collect::<Vec<_>>()),
@@ -268,12 +360,26 @@ fn decide_directive(
     };
     if readings.is_empty() {
         // The answer matches none of the readings.
-        let words = match &request.answer {
-            Some(Answer::Reference(reference)) => reference.words(scene),
-            Some(Answer::Id(id)) => Reference::Id(id.clone()).words(scene),
-            _ => String::new(),
+        let unfound = match answer {
+            Some(Answer::Reference(reference)) => Unfound {
+                words: reference.words(scene),
+                unplaced: reference.unplaced(),
+            },
+            Some(Answer::Id(id)) => Unfound {
+                words: Reference::Id(id.clone()).words(scene),
+                unplaced: None,
+            },
+            _ => Unfound {
+                words: String::new(),
+                unplaced: None,
+            },
         };
-        return Ok(finish(Plan::Unresolved(vec![words]), Vec::new(), None, &mut describer));
+        return Ok(finish(
+            Plan::Unresolved(vec![unfound]),
+            Vec::new(),
+            None,
+            &mut describer,
+        ));
     }
     // The contract's order, before simulating: likeliest first, so a deadline cuts the least likely.
     // Stable, as the order of readings alike in all three must be the order they were made in.
@@ -343,7 +449,10 @@ fn decide_directive(
     // "Get a mug.": when every reference with a choice is indefinite, any acceptable reading
     // will do; the first in the contract's order is taken, and only what cannot be done is
     // explained.
+    // Never on a partial view: with readings left unsimulated, one of them might be the one
+    // the norms forbid, and "any will do" would be a guess among what was seen.
     if options.strategy == Strategy::Moral
+        && limits.is_none()
         && matches!(plan, Plan::Ask { .. } | Plan::AskWhich { .. })
         && any_will_do(directive, &slots)
         && let kept = kept(&readings)
@@ -359,26 +468,27 @@ fn decide_directive(
     }
     // "yes" confirms the reading a question to confirm named, decided afresh; "no" to it, or
     // either to anything else, leaves nothing to do.
-    match (&request.answer, &plan) {
+    match (answer, &plan) {
         (Some(Answer::Yes), Plan::Confirm { chosen, .. }) => {
             readings = vec![readings.swap_remove(*chosen)];
             plan = decide(options, &readings, &slots, false);
             return Ok(finish(plan, readings, limits, &mut describer));
         }
+        (Some(Answer::No), Plan::Confirm { .. }) => {
+            return Ok(finish(Plan::Cancelled, Vec::new(), None, &mut describer));
+        }
         (Some(answer @ (Answer::Yes | Answer::No)), _) => {
-            let declined = matches!((answer, &plan), (Answer::No, Plan::Confirm { .. }));
-            let why = if declined { Unclear::Declined } else { Unclear::Unasked };
             let plan = Plan::NotUnderstood {
-                why,
+                why: Unclear::Unasked,
                 words: if matches!(answer, Answer::Yes) { "yes" } else { "no" }.to_owned(),
             };
             let mut decision = finish(plan, Vec::new(), None, &mut describer);
-            decision.parse = Some(not_a_directive(why));
+            decision.parse = Some(not_a_directive(Unclear::Unasked));
             return Ok(decision);
         }
         _ => {}
     }
-    if let Some(Answer::Choice(choice)) = request.answer {
+    if let Some(&Answer::Choice(choice)) = answer {
         let offered = match &plan {
             Plan::Ask { offered, .. } => offered.clone(),
             Plan::Confirm { chosen, .. } => vec![*chosen],
@@ -401,21 +511,37 @@ fn decide_directive(
 }
 
 /// Orders each slot's candidates as the contract orders readings (by score, highest first, then
-/// by their words) when the readings far outnumber the candidates. A hint, not the order: the
-/// readings are sorted all the same. But when the verb's arguments are the slots in order and
-/// every reading scores alike, their combinations then come out in the contract's order already,
-/// and sorting 10,000 readings is one pass that finds them in order, with nothing to move.
-fn presort(slots: &mut [Slot], describer: &mut Describer<'_>) {
+/// by their words) when the readings far outnumber the candidates, and says whether it did. A
+/// hint, not the order: the readings are sorted all the same. But when the verb's arguments are
+/// the slots in order and every reading scores alike, their combinations then come out in the
+/// contract's order already, and sorting 10,000 readings is one pass that finds them in order,
+/// with nothing to move. Describing the candidates is work: past the deadline it is given up,
+/// and the slots are left as they were.
+fn presort(slots: &mut [Slot], describer: &mut Describer<'_>, expired: &(dyn Fn() -> bool + Sync)) -> bool {
     let candidates: usize = slots.iter().map(|s| s.candidates.len()).sum();
     let readings = (slots.iter())
         .try_fold(1usize, |n, s| n.checked_mul(s.candidates.len()))
         .unwrap_or(usize::MAX);
     if readings < PRESORT_FROM || candidates.saturating_mul(8) > readings {
-        return;
+        return false;
     }
-    for slot in slots {
-        (slot.candidates).sort_by_cached_key(|(value, score)| contract_key(*score, describer.argument(value)));
+    let mut keyed: Vec<Vec<(Reverse<Score>, String)>> = Vec::with_capacity(slots.len());
+    for slot in slots.iter() {
+        let mut keys = Vec::with_capacity(slot.candidates.len());
+        for (n, (value, score)) in slot.candidates.iter().enumerate() {
+            if n % PRESORT_LOOK == PRESORT_LOOK - 1 && expired() {
+                return false;
+            }
+            keys.push(contract_key(*score, describer.argument(value)));
+        }
+        keyed.push(keys);
     }
+    for (slot, keys) in slots.iter_mut().zip(keyed) {
+        let mut order: Vec<usize> = (0..keys.len()).collect();
+        order.sort_by(|&a, &b| keys[a].cmp(&keys[b]));
+        permute(&mut slot.candidates, order);
+    }
+    true
 }
 
 /// What the contract orders readings by before the action as written: score, highest first,
@@ -497,19 +623,25 @@ fn prepare(
             values,
         }
     };
+    // A description may take a pass over the objects of its type: the deadline is asked every
+    // few readings, never before the first.
+    let described = |describer: &mut Describer<'_>, chosen: Vec<(Vec<Term>, f64)>, first: bool| {
+        let mut readings = Vec::with_capacity(chosen.len());
+        for (n, c) in chosen.into_iter().enumerate() {
+            if (n > 0 || !first) && n % DESCRIBE_LOOK == 0 && expired() {
+                return None;
+            }
+            readings.push(describe(describer, c));
+        }
+        Some(readings)
+    };
     if chosen.len() < DESCRIBE_APART_FROM {
-        return Some(chosen.into_iter().map(|c| describe(describer, c)).collect());
+        return described(describer, chosen, true);
     }
     let describer = &*describer;
     let batch = parallel_batch(chosen.len());
     let batches: Vec<Option<Vec<Interpretation>>> = (chosen.into_par_iter().chunks(batch).enumerate())
-        .map(|(n, batch)| {
-            if n > 0 && expired() {
-                return None;
-            }
-            let mut describer = describer.fresh();
-            Some(batch.into_iter().map(|c| describe(&mut describer, c)).collect())
-        })
+        .map(|(n, batch)| described(&mut describer.fresh(), batch, n == 0))
         .collect();
     let mut readings = Vec::with_capacity(batches.iter().flatten().map(Vec::len).sum());
     for batch in batches {

@@ -55,12 +55,22 @@ pub enum Plan {
     },
     Explain(Vec<usize>),
     /// References that match nothing, in words ("the spoon").
-    Unresolved(Vec<String>),
+    Unresolved(Vec<Unfound>),
+    /// The human took back what was asked ("never mind"): nothing is done.
+    Cancelled,
     /// Words that are not a directive, and those that could not be placed.
     NotUnderstood {
         why: Unclear,
         words: String,
     },
+}
+
+/// A reference that matches nothing: what the human said ("the spoon"), and the words of it
+/// that could not be placed at all ("pls" in "the mug pls"), if any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unfound {
+    pub words: String,
+    pub unplaced: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -73,6 +83,7 @@ pub enum DecisionKind {
     Explain,
     Unresolved,
     NotUnderstood,
+    Cancelled,
 }
 
 impl DecisionKind {
@@ -86,6 +97,7 @@ impl DecisionKind {
             DecisionKind::Explain => "explain",
             DecisionKind::Unresolved => "unresolved",
             DecisionKind::NotUnderstood => "not_understood",
+            DecisionKind::Cancelled => "cancelled",
         }
     }
 }
@@ -226,10 +238,10 @@ pub enum Unclear {
     Several,
     /// No verb, or words that are not a directive's shape.
     Unplaced,
-    /// "no" to a question to confirm: nothing is done.
-    Declined,
-    /// "yes" or "no" when nothing was asked to confirm.
+    /// "yes", "no" or "never mind" when nothing was asked that it answers.
     Unasked,
+    /// The deadline passed (or the client left) before the words were read.
+    Deadline,
 }
 
 impl Unclear {
@@ -240,8 +252,8 @@ impl Unclear {
             Unclear::Negated => "negated",
             Unclear::Several => "several",
             Unclear::Unplaced => "unplaced",
-            Unclear::Declined => "declined",
             Unclear::Unasked => "unasked",
+            Unclear::Deadline => "deadline",
         }
     }
 }

@@ -120,6 +120,13 @@ pub enum Answer {
     Yes,
     /// "no": after a question to confirm, nothing is done.
     No,
+    /// "never mind", "none of them" (the words): after any question, nothing is done.
+    Cancel(String),
+    /// A whole new directive in words ("Get the vase."): decided afresh, as if said first.
+    Directive(String),
+    /// The answer in words, read when it is decided (against the scene and the verbs in force)
+    /// into one of the others.
+    Words(String),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -335,7 +342,7 @@ impl Answer {
                 ));
             }
             limits.text(&text)?;
-            return Ok(super::words::understand_answer(&text, scene));
+            return Ok(Answer::Words(text));
         }
         match (input.choice, input.id, input.reference) {
             (Some(choice), None, None) => Ok(Answer::Choice(usize::try_from(choice).unwrap_or(usize::MAX))),

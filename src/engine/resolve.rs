@@ -47,8 +47,21 @@ pub enum Reference {
         words: String,
     },
     /// Words with one that names nothing here ("the wet mug"): it matches no object, so the
-    /// robot says what it did not understand rather than pick another object.
+    /// robot says what it did not understand rather than pick another object. `unplaced`: the
+    /// words the grammar could not place at all ("pls" in "the mug pls", "second" in "the
+    /// second mug"), as against words it understood that describe nothing here.
     Nothing {
+        words: String,
+        unplaced: Option<String>,
+    },
+    /// A reference narrowed by words the human added to it: "the cup, the blue one" (`keep`:
+    /// `by` must be true of the object too), "the notebook, not the red one" (it must not be).
+    /// Words that name nothing never narrow by leaving out nothing: with such a `by`, the
+    /// reference matches nothing.
+    Narrowed {
+        base: Box<Reference>,
+        by: Box<Reference>,
+        keep: bool,
         words: String,
     },
 }
@@ -123,7 +136,38 @@ impl Reference {
                         })
                     })
             }
+            Reference::Narrowed { base, by, keep, .. } => {
+                !by.names_nothing() && base.matches(object) && by.matches(object) == *keep
+            }
             Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
+        }
+    }
+
+    /// Words that can match no object whatever the scene: unknown words, or a pronoun with no
+    /// object in focus.
+    fn names_nothing(&self) -> bool {
+        match self {
+            Reference::Nothing { .. } | Reference::Pronoun { .. } => true,
+            Reference::Narrowed { base, by, .. } => base.names_nothing() || by.names_nothing(),
+            Reference::Id(_) | Reference::Described { .. } | Reference::Spoken { .. } => false,
+        }
+    }
+
+    /// "a mug": any matching object will do.
+    pub(super) fn indefinite(&self) -> bool {
+        match self {
+            Reference::Spoken { indefinite, .. } => *indefinite,
+            Reference::Narrowed { base, .. } => base.indefinite(),
+            _ => false,
+        }
+    }
+
+    /// The words of the reference that could not be placed at all, if any.
+    pub(super) fn unplaced(&self) -> Option<String> {
+        match self {
+            Reference::Nothing { unplaced, .. } => unplaced.clone(),
+            Reference::Narrowed { base, by, .. } => base.unplaced().or_else(|| by.unplaced()),
+            _ => None,
         }
     }
 
@@ -143,9 +187,10 @@ impl Reference {
                 words.push(self.noun().unwrap_or_else(|| "one".to_owned()));
                 words.join(" ")
             }
-            Reference::Spoken { words, .. } | Reference::Pronoun { words } | Reference::Nothing { words } => {
-                words.clone()
-            }
+            Reference::Spoken { words, .. }
+            | Reference::Pronoun { words }
+            | Reference::Nothing { words, .. }
+            | Reference::Narrowed { words, .. } => words.clone(),
         }
     }
 
@@ -154,6 +199,7 @@ impl Reference {
         match self {
             Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
             Reference::Spoken { kinds, .. } => kinds.first().map(|k| spoken(k)),
+            Reference::Narrowed { base, .. } => base.noun(),
             _ => None,
         }
     }
@@ -173,6 +219,8 @@ pub(super) struct Slot {
     pub(super) words: String,
     /// The slot's head noun when asking which one is meant ("spoon").
     pub(super) noun: String,
+    /// Words of the slot's reference that could not be placed at all ("pls").
+    pub(super) unplaced: Option<String>,
 }
 
 /// How one choice of candidates, one per slot, becomes an action.
@@ -227,6 +275,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                         candidates,
                         words: reference.words(scene),
                         noun,
+                        unplaced: reference.unplaced(),
                     }
                 })
                 .collect();
@@ -239,6 +288,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                 candidates: Vec::new(),
                 words: text.clone(),
                 noun: "one".to_owned(),
+                unplaced: None,
             }],
         ),
         Directive::Form { action, bindings } => {
@@ -260,6 +310,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                         candidates,
                         words: variable.to_string(),
                         noun,
+                        unplaced: None,
                     }
                 })
                 .collect();
@@ -303,7 +354,9 @@ fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
     match answer {
         Answer::Id(id) => object.id == id.as_str(),
         Answer::Reference(reference) => reference.matches(object),
-        Answer::Choice(_) | Answer::Yes | Answer::No => true,
+        Answer::Choice(_) | Answer::Yes | Answer::No | Answer::Cancel(_) | Answer::Directive(_) | Answer::Words(_) => {
+            true
+        }
     }
 }
 

@@ -21,7 +21,7 @@ use super::term::{Sym, Term};
 mod facts;
 mod spoken;
 
-pub use spoken::{spoken, spoken_into, spoken_is, spoken_onto};
+pub use spoken::{invisible, spoken, spoken_into, spoken_is, spoken_onto};
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]

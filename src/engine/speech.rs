@@ -6,10 +6,10 @@
 
 use std::borrow::Cow;
 
-use super::decision::{Interpretation, Plan, Style, Unclear};
+use super::decision::{Interpretation, Plan, Style, Unclear, Unfound};
 use super::describe::{Describer, reading_with};
 use super::norms::Force;
-use super::scene::{spoken, spoken_onto};
+use super::scene::{invisible, spoken, spoken_onto};
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
 
@@ -76,15 +76,17 @@ pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
             "believe",
             Term::compound("and", which.iter().map(|&i| cannot_term(&all[i])).collect()),
         ),
-        Plan::Unresolved(words) => act(
+        Plan::Unresolved(unfound) => act(
             "want_know",
             one_or_and(
-                words
+                unfound
                     .iter()
-                    .map(|w| Term::compound("referent", vec![phrase_term(w)]))
+                    .map(|u| Term::compound("referent", vec![phrase_term(&u.words)]))
                     .collect(),
             ),
         ),
+        // Nothing is done, and the robot says it heard so: `acknowledge(self,cancel(S))`.
+        Plan::Cancelled => act("acknowledge", Term::compound("cancel", vec![speaker.clone()])),
         // What the human meant, and why the words did not say it: `want_know(self,meaning(question))`.
         Plan::NotUnderstood { why, .. } => act(
             "want_know",
@@ -378,25 +380,25 @@ fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<St
 
 /// A norm's note as words inside a sentence. The note is the operator's text, stored as written;
 /// what is spoken of it carries no control or direction-changing characters (a NUL or a U+202E
-/// would reach a listener's screen or speech engine), its spaces are single and it loses a
-/// closing full stop, since the sentence supplies its own. `None` when nothing is left.
+/// would reach a listener's screen or speech engine), its spaces are single and it loses its
+/// closing marks (a full stop, "!" or "?"), since the sentence supplies its own. `None` when nothing is left.
 fn note_words(note: &str) -> Option<String> {
     let mut words = String::with_capacity(note.len());
     for c in note.chars() {
-        let invisible = matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}'
-            | '\u{2060}'..='\u{2069}' | '\u{061c}' | '\u{feff}');
-        if invisible {
-            continue;
-        }
-        if c.is_control() || c.is_whitespace() {
+        // Whitespace and control characters become one space; what shows nothing is left out.
+        if c.is_whitespace() || c.is_control() {
             if !words.is_empty() && !words.ends_with(' ') {
                 words.push(' ');
             }
-        } else {
+        } else if !invisible(c) {
             words.push(c);
         }
     }
-    let kept = words.trim_end().trim_end_matches('.').trim_end().len();
+    // The sentence around the note closes it: its own closing marks would double ("careful!.").
+    let kept = (words.trim_end())
+        .trim_end_matches(['.', '!', '?', '…'])
+        .trim_end()
+        .len();
     words.truncate(kept);
     (!words.is_empty()).then_some(words)
 }
@@ -576,9 +578,24 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
                 .collect();
             format!("I believe that I {}.", clauses.join(" and that I "))
         }
-        Plan::Unresolved(words) => format!("I do not know what you mean by {}.", words.join(" and ")),
+        Plan::Unresolved(unfound) => unplaced_words(unfound).unwrap_or_else(|| {
+            let words: Vec<&str> = unfound.iter().map(|u| u.words.as_str()).collect();
+            format!("I do not know what you mean by {}.", words.join(" and "))
+        }),
         Plan::NotUnderstood { why, words } => not_understood(*why, words),
+        Plan::Cancelled => CANCELLED.to_owned(),
     }
+}
+
+/// What the robot says when the human takes back what was asked; the same in both styles.
+const CANCELLED: &str = "Okay, I will not.";
+
+/// When words of a reference could not be placed at all, the robot says which, in both styles:
+/// "I can't find the mug pls" would claim it looked for a "mug pls".
+fn unplaced_words(unfound: &[Unfound]) -> Option<String> {
+    let u = unfound.iter().find(|u| u.unplaced.is_some())?;
+    let unplaced = u.unplaced.as_deref()?;
+    Some(format!("I do not understand \"{unplaced}\" in \"{}\".", u.words))
 }
 
 /// What the robot says to words that are not a directive; the same in both styles, since
@@ -592,8 +609,8 @@ fn not_understood(why: Unclear, words: &str) -> String {
         }
         Unclear::Several => "Please ask me for one thing at a time.".to_owned(),
         Unclear::Unplaced => format!("I did not understand \"{words}\"."),
-        Unclear::Declined => "Okay, I will not. What would you like me to do instead?".to_owned(),
         Unclear::Unasked => format!("I did not ask anything that \"{words}\" answers."),
+        Unclear::Deadline => "I ran out of time before I understood that.".to_owned(),
     }
 }
 
@@ -651,8 +668,12 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
                 .collect::<Vec<_>>()
                 .join(" ")
         }),
-        Plan::Unresolved(words) => format!("I can't find {} here.", listed(words, "or")),
+        Plan::Unresolved(unfound) => unplaced_words(unfound).unwrap_or_else(|| {
+            let words: Vec<String> = unfound.iter().map(|u| u.words.clone()).collect();
+            format!("I can't find {} here.", listed(&words, "or"))
+        }),
         Plan::NotUnderstood { why, words } => not_understood(*why, words),
+        Plan::Cancelled => CANCELLED.to_owned(),
     }
 }
 

@@ -411,8 +411,9 @@ impl From<&Interpretation> for InterpretationDto {
 
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
 pub struct DecisionDto {
-    /// `comply`, `refuse`, `ask`, `assume`, `confirm`, `explain`, `unresolved` or
-    /// `not_understood` (the words are not a directive: nothing was simulated).
+    /// `comply`, `refuse`, `ask`, `assume`, `confirm`, `explain`, `unresolved`,
+    /// `not_understood` (the words are not a directive: nothing was simulated) or `cancelled`
+    /// (an answer took back the question: "no" to a question to confirm, "never mind" to any).
     pub decision: String,
     pub utterance: String,
     pub speech_act: String,
@@ -459,7 +460,8 @@ pub struct ParseDto {
     /// Trailing words that select no object and were left out ("for reheating").
     pub ignored: Vec<String>,
     /// Why the words are not a directive (`question`, `negated`, `several`, `unplaced`,
-    /// `empty`), when the decision is `not_understood`.
+    /// `empty`, `unasked`: an answer to no question, `deadline`: not read in time), when the
+    /// decision is `not_understood`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub unclear: Option<String>,
 }

@@ -108,8 +108,9 @@ async fn follow_up_answers_in_words_are_decided_afresh() {
     );
     confirm["answer"] = json!({"text": "no"});
     let no = app.clarify(&confirm).await;
-    assert_eq!(no["decision"], "not_understood");
-    assert_eq!(no["parse"]["unclear"], "declined");
+    assert_eq!(no["decision"], "cancelled", "{no}");
+    assert_eq!(no["utterance"], "Okay, I will not.");
+    assert!(no["goal"].is_null() && no["offered"] == json!([]), "{no}");
     request["answer"] = json!({"text": "yes"});
     assert_eq!(
         app.clarify(&request).await["decision"],

@@ -3,6 +3,14 @@
 //!
 //! Owns: the one spoken form of a name. Must not: know which names exist (the lexicon does).
 
+/// Characters that show nothing, yet change what a listener's screen or speech engine makes of
+/// the text around them: control characters, zero-width characters and marks, and the
+/// direction controls (U+202E turns what follows around). Never part of a word, never spoken.
+pub fn invisible(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{2069}' | '\u{061c}' | '\u{feff}')
+}
+
 /// A type, value or verb as spoken: `_` as spaces, camel case split, lower case.
 /// `cash_box` → "cash box", `pointTo` → "point to".
 pub fn spoken(name: &str) -> String {

@@ -300,6 +300,17 @@ pub(super) fn confirming(request: Request) -> Request {
     }
 }
 
+/// The request, answered in the natural style.
+pub(super) fn natural(request: Request) -> Request {
+    Request {
+        options: Options {
+            style: crate::engine::decision::Style::Natural,
+            ..request.options
+        },
+        ..request
+    }
+}
+
 pub(super) fn reflexive(request: Request) -> Request {
     Request {
         options: Options {

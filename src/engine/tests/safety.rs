@@ -328,9 +328,9 @@ fn check_invariant(d: &Decision, single: SinglePermissible) -> Result<(), TestCa
             prop_assert!(d.utterance.ends_with('.'));
         }
         Unresolved => prop_assert!(d.utterance.starts_with("I do not know what you mean by the ")),
-        NotUnderstood => {
+        NotUnderstood | DecisionKind::Cancelled => {
             return Err(TestCaseError::fail(format!(
-                "a structured directive is always understood: {}",
+                "a structured directive with no answer is always understood: {}",
                 d.utterance
             )));
         }

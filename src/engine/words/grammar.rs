@@ -2,15 +2,21 @@
 //! words in front of it and either takes them or stops; nothing is tried twice.
 //!
 //! ```text
-//! sentence  := vocative? politeness* frame? verb-phrase adjunct* politeness* vocative?
+//! sentence  := vocative? clause (, narrowing)* (, manner)* (, vocative)?
+//! clause    := manner* frame? verb-phrase purpose? manner*
 //! frame     := "can"|"could"|"will"|"would" "you" | "would you mind" | "i want/need/'d like you to"
 //!              | "go" "and"?
-//! verb-phrase := verb "me"? reference (joiner reference)? particle?
+//! verb-phrase := verb "me"? reference exclusion? (joiner reference exclusion?)? particle?
 //! reference := pronoun | determiner? adjective* noun | determiner? adjective* "one"
+//! narrowing := "not"? reference | "not"? adjective+        ("the cup, the blue one", ", not red")
+//! purpose   := "to" verb ... | "in order to" verb ... | "so" "that"? subject modal verb ...
+//!              | "for" verb-ing ...
 //! ```
 //!
 //! Owns: the sentence's shape. Must not: place a word it does not know inside a reference as
-//! anything but unknown.
+//! anything but unknown, or leave out any word but those of how and when (`MANNER`): a word
+//! that narrows a reference, a negation, another step or a purpose is read or the words are
+//! not understood.
 
 use super::lexicon::{Lexicon, Noun, inflects};
 use super::{Parse, Phrase, Understanding};
@@ -18,8 +24,8 @@ use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
 use crate::engine::request::{Answer, Directive};
-use crate::engine::resolve::Reference;
-use crate::engine::scene::Scene;
+use crate::engine::resolve::{Reference, Sense};
+use crate::engine::scene::invisible;
 
 const DETERMINERS: &[&str] = &["the", "a", "an", "this", "that", "my", "your"];
 const PRONOUNS: &[&str] = &["it", "this", "that"];
@@ -34,20 +40,113 @@ const FUNCTION_WORDS: &[&str] = &[
     "the", "a", "an", "my", "your", "on", "onto", "in", "into", "inside", "upon", "at", "to", "with", "from", "of",
     "by", "under", "over", "off", "up", "down", "for", "me", "us", "you", "i", "we", "and", "or", "not", "yes", "no",
 ];
-/// Words that open a trailing adjunct, which selects no object and may be left out.
-const ADJUNCTS: &[&str] = &[
-    "for",
-    "to",
-    "quickly",
-    "now",
-    "carefully",
-    "gently",
-    "slowly",
-    "immediately",
-    "again",
-    "soon",
-    "asap",
+/// The only words ever left out: how and when, never what or which. Each is a phrase; "please"
+/// and the beneficiary "for me" are left out without being shown as ignored.
+const MANNER: &[&[&str]] = &[
+    &["please"],
+    &["for", "me"],
+    &["for", "us"],
+    &["right", "now"],
+    &["right", "away"],
+    &["now"],
+    &["quickly"],
+    &["carefully"],
+    &["gently"],
+    &["slowly"],
+    &["immediately"],
+    &["again"],
+    &["soon"],
+    &["asap"],
+    &["instead"],
+    &["thanks"],
+    &["thank", "you"],
 ];
+/// Words that open another step of the task ("and destroy the vase", "then smash").
+const STEP_WORDS: &[&str] = &["and", "then", "after", "afterwards", "next", "also"];
+/// Words that negate what follows.
+const NEGATIONS: &[&[&str]] = &[&["don't"], &["dont"], &["do", "not"], &["never"], &["not"]];
+/// Words the grammar knows as the shape of a reference it does not read yet: order, number,
+/// degree, relations and clauses. Found where a reference fails, they are the words said back
+/// as not understood ("second" in "the second notebook"), rather than "nothing is there".
+const STRUCTURE: &[&str] = &[
+    "first",
+    "second",
+    "third",
+    "fourth",
+    "fifth",
+    "sixth",
+    "seventh",
+    "eighth",
+    "ninth",
+    "tenth",
+    "last",
+    "next",
+    "other",
+    "another",
+    "two",
+    "three",
+    "four",
+    "five",
+    "six",
+    "seven",
+    "eight",
+    "nine",
+    "ten",
+    "both",
+    "all",
+    "every",
+    "each",
+    "some",
+    "any",
+    "either",
+    "neither",
+    "biggest",
+    "largest",
+    "smallest",
+    "tallest",
+    "shortest",
+    "heaviest",
+    "lightest",
+    "nearest",
+    "closest",
+    "farthest",
+    "furthest",
+    "leftmost",
+    "rightmost",
+    "highest",
+    "lowest",
+    "on",
+    "in",
+    "inside",
+    "under",
+    "below",
+    "beneath",
+    "above",
+    "near",
+    "beside",
+    "by",
+    "behind",
+    "left",
+    "right",
+    "front",
+    "from",
+    "with",
+    "of",
+    "at",
+    "that",
+    "which",
+    "who",
+    "not",
+    "but",
+    "except",
+    "than",
+    "and",
+    "or",
+    "to",
+];
+/// The most words of a reference after its last noun said back as not understood; a longer
+/// tail is reported as the whole reference.
+const MAX_UNPLACED_TAIL: usize = 12;
 
 /// One word of the text, lower case, and whether a comma followed it.
 #[derive(Clone, Debug)]
@@ -56,36 +155,60 @@ struct Token {
     comma: bool,
 }
 
-/// Words, lower case; commas remembered (a vocative is set off by one); the punctuation of a
-/// sentence and invisible characters dropped, apostrophes kept ("don't", "i'd"). Any other
-/// character (a sign, a symbol, an emoji) is part of its word and never dropped: "the ★ vase"
-/// has a word nobody knows, which must narrow the reference to nothing, not to every vase.
+/// Words, lower case; commas remembered (a vocative or a narrowing is set off by one). The
+/// punctuation of a sentence is dropped where it stands at a word's edge, and invisible
+/// characters (zero-width, direction controls) wherever they are; a mark inside a word is part
+/// of it ("1.5", "dr.pepper", "c.1"), as is any other character (a sign, a symbol, an emoji):
+/// "the ★ vase" has a word nobody knows, which must narrow the reference to nothing.
 fn tokens(text: &str) -> Vec<Token> {
     let mut out: Vec<Token> = Vec::new();
+    let comma_after_last = |out: &mut Vec<Token>| {
+        if let Some(last) = out.last_mut() {
+            last.comma = true;
+        }
+    };
+    let mut chars: Vec<char> = Vec::new();
     for piece in text.split_whitespace() {
+        chars.clear();
+        chars.extend(piece.chars().filter(|&c| !invisible(c)));
+        let mark = |c: char| c == ',' || is_punctuation(c);
+        let (Some(first), Some(last)) = (
+            chars.iter().position(|&c| !mark(c)),
+            chars.iter().rposition(|&c| !mark(c)),
+        ) else {
+            if chars.contains(&',') {
+                comma_after_last(&mut out);
+            }
+            continue;
+        };
+        if chars[..first].contains(&',') {
+            comma_after_last(&mut out);
+        }
         let mut word = String::new();
-        for c in piece.chars() {
-            match c {
-                // Most words are ASCII: lowered without `to_lowercase`'s iterator.
-                c if c.is_ascii_alphanumeric() => word.push(c.to_ascii_lowercase()),
-                ',' => {
-                    if !word.is_empty() {
+        for i in first..=last {
+            match chars[i] {
+                // A comma between digits is a decimal mark ("1,5"); elsewhere it sets words off.
+                ',' if !(chars[i - 1].is_ascii_digit() && chars[i + 1].is_ascii_digit()) => {
+                    if word.is_empty() {
+                        comma_after_last(&mut out);
+                    } else {
                         out.push(Token {
                             word: std::mem::take(&mut word),
-                            comma: false,
+                            comma: true,
                         });
                     }
-                    if let Some(last) = out.last_mut() {
-                        last.comma = true;
-                    }
                 }
+                // Most words are ASCII: lowered without `to_lowercase`'s iterator.
+                c if c.is_ascii_alphanumeric() => word.push(c.to_ascii_lowercase()),
                 '\'' | '’' => word.push('\''),
-                c if is_punctuation(c) || is_invisible(c) => {}
                 c => word.extend(c.to_lowercase()),
             }
         }
         if !word.is_empty() {
-            out.push(Token { word, comma: false });
+            out.push(Token {
+                word,
+                comma: chars[last + 1..].contains(&','),
+            });
         }
     }
     out
@@ -99,51 +222,168 @@ fn is_punctuation(c: char) -> bool {
     PUNCTUATION.contains(c)
 }
 
-/// Characters that show nothing: control characters, and the zero-width space and byte-order
-/// mark that copying text can leave inside a word.
-fn is_invisible(c: char) -> bool {
-    c.is_control() || matches!(c, '\u{200b}' | '\u{feff}')
-}
-
 fn is(words: &[String], at: usize, expected: &[&str]) -> bool {
     expected.len() <= words.len().saturating_sub(at) && expected.iter().zip(&words[at..]).all(|(e, w)| e == w)
+}
+
+/// The manner phrase at `at`, and how many words it takes.
+fn manner_at(words: &[String], at: usize) -> Option<(&'static [&'static str], usize)> {
+    MANNER.iter().find(|m| is(words, at, m)).map(|m| (*m, m.len()))
+}
+
+/// Whether every word of `words` is a manner word, left out; those worth showing are noted.
+fn all_manner(words: &[String]) -> bool {
+    let mut at = 0;
+    while let Some((_, n)) = manner_at(words, at) {
+        at += n;
+    }
+    at == words.len() && at > 0
+}
+
+/// Left out, and worth showing as left out: every manner word but the politeness.
+fn shown(manner: &[&str]) -> bool {
+    !matches!(
+        manner,
+        ["please"] | ["for", "me"] | ["for", "us"] | ["thanks"] | ["thank", "you"]
+    )
+}
+
+/// Takes manner words off the end of `words`, noting those worth showing (in the order said).
+fn strip_trailing_manner(words: &mut Vec<String>, ignored: &mut Vec<String>) {
+    let mut taken = Vec::new();
+    'strip: while !words.is_empty() {
+        for manner in MANNER {
+            let n = manner.len();
+            if words.len() >= n && is(words, words.len() - n, manner) {
+                words.truncate(words.len() - n);
+                if shown(manner) {
+                    taken.push(manner.join(" "));
+                }
+                continue 'strip;
+            }
+        }
+        break;
+    }
+    ignored.extend(taken.into_iter().rev());
+}
+
+/// Whether `words` (one or two, set off by a comma) can only be a name: none of them is a word
+/// of the grammar, a verb's or the scene's. "Pepper" is; "grab it", "blue one", "not red",
+/// "then smash" and "don't" are not.
+fn is_name(words: &[String], lexicon: &Lexicon) -> bool {
+    let closed = |w: &str| {
+        [
+            DETERMINERS,
+            PRONOUNS,
+            QUESTION_WORDS,
+            FUNCTION_WORDS,
+            STEP_WORDS,
+            STRUCTURE,
+            &[
+                "one", "can", "could", "will", "would", "just", "go", "don't", "dont", "never", "ok", "okay",
+            ][..],
+        ]
+        .iter()
+        .any(|list| list.contains(&w))
+    };
+    (1..=2).contains(&words.len())
+        && words.iter().all(|w| {
+            !closed(w)
+                && manner_at(std::slice::from_ref(w), 0).is_none()
+                && !lexicon.verbs.iter().any(|p| inflects(w, &p.words[0]))
+                && !lexicon.knows(w)
+        })
+}
+
+/// Splits tokens into the comma-separated parts of the sentence.
+fn segments(tokens: Vec<Token>) -> Vec<Vec<String>> {
+    let mut out: Vec<Vec<String>> = vec![Vec::new()];
+    for token in tokens {
+        let comma = token.comma;
+        out.last_mut().expect("never empty").push(token.word);
+        if comma {
+            out.push(Vec::new());
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
+}
+
+/// A narrowing of the last reference, set off after it: the words, and whether they must be
+/// true of the object (`keep`) or must not be ("not the red one").
+struct Narrowing {
+    keep: bool,
+    words: Vec<String>,
 }
 
 /// The sentence's shape, stage by stage; `words` shrinks from both ends as each stage takes
 /// what is its own.
 pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
-    let mut tokens = tokens(text);
-    let all = |tokens: &[Token]| tokens.iter().map(|t| t.word.as_str()).collect::<Vec<_>>().join(" ");
+    let understood = read_words(text, lexicon);
+    // An index cut short, or a reference searched past the deadline, is no reading at all.
+    if lexicon.expired() {
+        return Understanding::Expired;
+    }
+    understood
+}
+
+fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
     let unclear = |why, words: String| Understanding::NotUnderstood { why, words };
-    // Politeness at the very end ("..., please"), before a vocative there is looked for.
-    while tokens.last().is_some_and(|t| t.word == "please") {
-        tokens.pop();
-    }
+    let mut segments = segments(tokens(text));
     let mut addressee = None;
-    // A vocative: one or two words set off by a comma, at the start or at the end.
-    if let Some(i) = tokens.iter().position(|t| t.comma)
-        && i < 2
-    {
-        addressee = Some(all(&tokens[..=i]));
-        tokens.drain(..=i);
+    let mut ignored = Vec::new();
+    // A vocative at the start: one or two words that can only be a name, set off by a comma.
+    if segments.len() > 1 && is_name(&segments[0], lexicon) {
+        addressee = Some(segments.remove(0).join(" "));
     }
-    if addressee.is_none()
-        && tokens.len() >= 3
-        && let Some(i) = tokens[..tokens.len() - 1].iter().rposition(|t| t.comma)
-        && tokens.len() - (i + 1) <= 2
-    {
-        addressee = Some(all(&tokens[i + 1..]));
-        tokens.truncate(i + 1);
+    // What follows the clause, set off by commas, from the end: manner words, a vocative, a
+    // narrowing of the last reference. Anything else set off belongs to the clause.
+    let mut narrowings = Vec::new();
+    let mut trailing_ignored: Vec<Vec<String>> = Vec::new();
+    while segments.len() > 1 {
+        let last = segments.last().expect("more than one");
+        if all_manner(last) {
+            let (mut words, mut shown) = (last.clone(), Vec::new());
+            strip_trailing_manner(&mut words, &mut shown);
+            trailing_ignored.push(shown);
+        } else if addressee.is_none() && is_name(last, lexicon) {
+            addressee = Some(last.join(" "));
+        } else if STEP_WORDS.contains(&last[0].as_str()) {
+            return unclear(Unclear::Several, segments.concat().join(" "));
+        } else if let Some(negation) = NEGATIONS.iter().find(|n| is(last, 0, n)) {
+            if *negation != ["not"] || last.len() == 1 {
+                return unclear(Unclear::Negated, last.join(" "));
+            }
+            narrowings.push(Narrowing {
+                keep: false,
+                words: last[1..].to_vec(),
+            });
+        } else if DETERMINERS.contains(&last[0].as_str()) || last.last().is_some_and(|w| w == "one") {
+            narrowings.push(Narrowing {
+                keep: true,
+                words: last.clone(),
+            });
+        } else {
+            break;
+        }
+        segments.pop();
     }
-    let mut words: Vec<String> = tokens.into_iter().map(|t| t.word).collect();
+    narrowings.reverse();
+    let mut words: Vec<String> = segments.concat();
     if words.is_empty() {
         return unclear(Unclear::Empty, String::new());
     }
     let mut act = Act::Command;
-    // Frames and politeness at the start, in any order they come: "please can you go and ...".
+    // Frames, politeness and manner at the start, in any order they come: "please can you go
+    // and ...", "now get ...".
     loop {
-        if is(&words, 0, &["please"]) || is(&words, 0, &["just"]) {
+        if is(&words, 0, &["just"]) {
             words.remove(0);
+        } else if let Some((manner, n)) = manner_at(&words, 0) {
+            if shown(manner) {
+                ignored.push(manner.join(" "));
+            }
+            words.drain(..n);
         } else if is(&words, 0, &["would", "you", "mind"]) {
             words.drain(..3);
             act = Act::IndirectRequest;
@@ -173,31 +413,19 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
             break;
         }
     }
-    // Politeness at the end: "... for me", "... please".
-    loop {
-        let n = words.len();
-        if n > 2 && (is(&words, n - 2, &["for", "me"]) || is(&words, n - 2, &["for", "us"])) {
-            words.truncate(n - 2);
-        } else if n > 1 && words[n - 1] == "please" {
-            words.truncate(n - 1);
-        } else {
-            break;
-        }
-    }
+    // Manner and politeness at the end: "... for me", "... now, please".
+    strip_trailing_manner(&mut words, &mut ignored);
+    ignored.extend(trailing_ignored.into_iter().rev().flatten());
     if words.is_empty() {
         return unclear(Unclear::Empty, String::new());
     }
-    if is(&words, 0, &["don't"])
-        || is(&words, 0, &["dont"])
-        || is(&words, 0, &["do", "not"])
-        || is(&words, 0, &["never"])
-    {
+    if NEGATIONS.iter().any(|n| is(&words, 0, n)) {
         return unclear(Unclear::Negated, words.join(" "));
     }
     if QUESTION_WORDS.contains(&words[0].as_str()) || ["can", "could", "will", "would"].contains(&words[0].as_str()) {
         return unclear(Unclear::Question, words.join(" "));
     }
-    if words.iter().any(|w| w == "and" || w == "then") {
+    if words.iter().any(|w| STEP_WORDS[..2].contains(&w.as_str())) {
         return unclear(Unclear::Several, words.join(" "));
     }
     let (verb, arity, joiners, mut rest) = match verb_at(&words, 0, lexicon) {
@@ -222,19 +450,34 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
     if rest.len() > 1 && (rest[0] == "me" || rest[0] == "us") {
         rest.remove(0);
     }
-    let mut ignored = Vec::new();
-    // Trailing adjuncts: from the first adjunct word after a reference's words to the end.
-    let opens_adjunct =
-        |w: &String| ADJUNCTS.contains(&w.as_str()) && !joiners.contains(w) && !lexicon_word(lexicon, w);
-    // A reference needs a word of its own first; a verb of no arguments has none to need.
-    let from = usize::from(arity > 0);
-    if let Some(i) = (from..rest.len()).find(|&i| opens_adjunct(&rest[i])) {
-        ignored.push(rest[i..].join(" "));
-        rest.truncate(i);
+    // A purpose after the reference ("to smash the vase") is not the robot's step, but it says
+    // what the human wants: one whose verb the robot knows could be forbidden, and is not read
+    // yet, so the words are not understood. One whose verb is unknown ("for reheating") is
+    // shown as ignored.
+    if let Some((at, verb_at_word)) = purpose_at(&rest, &joiners) {
+        let purpose = &rest[at..];
+        let negated = purpose.iter().any(|w| NEGATIONS.iter().any(|n| n[0] == w));
+        if negated || verb_at(purpose, verb_at_word, lexicon).is_some() {
+            return unclear(Unclear::Unplaced, purpose.join(" "));
+        }
+        ignored.push(purpose.join(" "));
+        rest.truncate(at);
+        strip_trailing_manner(&mut rest, &mut ignored);
+    }
+    // "get the cup not the red one": the rest excludes.
+    if let Some(at) = (1..rest.len()).find(|&i| rest[i] == "not") {
+        narrowings.insert(
+            0,
+            Narrowing {
+                keep: false,
+                words: rest[at + 1..].to_vec(),
+            },
+        );
+        rest.truncate(at);
     }
     let spans: Vec<&[String]> = if arity == 0 {
         // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
-        if !rest.is_empty() {
+        if !rest.is_empty() || !narrowings.is_empty() {
             return unclear(Unclear::Unplaced, words.join(" "));
         }
         Vec::new()
@@ -249,7 +492,12 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
     } else {
         vec![&rest[..]]
     };
-    let references: Vec<Phrase> = spans.iter().map(|span| reference(span, lexicon)).collect();
+    let mut references: Vec<Phrase> = spans.iter().map(|span| reference(span, lexicon)).collect();
+    if let Some(last) = references.last_mut() {
+        for narrowing in narrowings {
+            *last = narrowed(std::mem::replace(last, placeholder()), narrowing, lexicon);
+        }
+    }
     let arguments = references.iter().map(|p| p.reference.clone()).collect();
     Understanding::Directive {
         directive: Directive::Action {
@@ -266,10 +514,100 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
     }
 }
 
-/// Whether the lexicon knows `word` as a noun or an adjective on its own.
-fn lexicon_word(lexicon: &Lexicon, word: &str) -> bool {
-    let one = [word.to_owned()];
-    lexicon.noun(&one).is_some() || lexicon.adjective(&one).is_some()
+/// A phrase that names nothing, held while the one in its place is rebuilt.
+fn placeholder() -> Phrase {
+    Phrase {
+        words: String::new(),
+        reference: Reference::Nothing {
+            words: String::new(),
+            unplaced: None,
+        },
+    }
+}
+
+/// `base` narrowed by what the human added: a reference ("the blue one"), or adjectives alone
+/// ("not red").
+fn narrowed(base: Phrase, narrowing: Narrowing, lexicon: &Lexicon) -> Phrase {
+    let by = reference_or_adjectives(&narrowing.words, lexicon);
+    let words = format!(
+        "{}, {}{}",
+        base.words,
+        if narrowing.keep { "" } else { "not " },
+        by.words
+    );
+    Phrase {
+        reference: Reference::Narrowed {
+            base: Box::new(base.reference),
+            by: Box::new(by.reference),
+            keep: narrowing.keep,
+            words: words.clone(),
+        },
+        words,
+    }
+}
+
+/// A reference, or, where it has no noun, adjectives alone: "red" is what is red.
+fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Phrase {
+    let phrase = reference(words, lexicon);
+    if !matches!(phrase.reference, Reference::Nothing { .. }) || words.is_empty() {
+        return phrase;
+    }
+    match adjectives(words, lexicon) {
+        Some(adjectives) => Phrase {
+            reference: Reference::Spoken {
+                kinds: Vec::new(),
+                named: Vec::new(),
+                adjectives,
+                words: phrase.words.clone(),
+                indefinite: false,
+            },
+            words: phrase.words,
+        },
+        None => phrase,
+    }
+}
+
+/// Where a purpose starts in `rest` (after a reference's first word), and the position of its
+/// verb within it.
+fn purpose_at(rest: &[String], joiners: &[String]) -> Option<(usize, usize)> {
+    const SUBJECTS: &[&str] = &["i", "we", "you", "he", "she", "they"];
+    const MODALS: &[&str] = &["can", "could", "may", "might", "will", "would"];
+    /// Words after "to" that make it a place or a relation, not a purpose.
+    const NOT_A_VERB: &[&str] = &[
+        "right", "left", "front", "back", "top", "bottom", "side", "me", "us", "him", "her",
+    ];
+    (1..rest.len()).find_map(|i| {
+        let next = rest.get(i + 1).map(String::as_str);
+        if is(rest, i, &["in", "order", "to"]) {
+            return Some((i, 3));
+        }
+        if rest[i] == "to" && !joiners.iter().any(|j| j == "to") {
+            let w = next?;
+            // "to not reheat it" is a purpose too, negated.
+            let verb_like = ["not", "never"].contains(&w)
+                || !DETERMINERS.contains(&w)
+                    && !PRONOUNS.contains(&w)
+                    && !FUNCTION_WORDS.contains(&w)
+                    && !NOT_A_VERB.contains(&w)
+                    && !w.bytes().all(|b| b.is_ascii_digit());
+            return verb_like.then_some((i, 1));
+        }
+        if rest[i] == "so" {
+            let skip = usize::from(next == Some("that"));
+            let subject = rest.get(i + 1 + skip).map(String::as_str);
+            let modal = rest.get(i + 2 + skip).map(String::as_str);
+            if subject.is_some_and(|s| SUBJECTS.contains(&s)) && modal.is_some_and(|m| MODALS.contains(&m)) {
+                return Some((i, 3 + skip));
+            }
+        }
+        if rest[i] == "for"
+            && next.is_some_and(|w| w.len() > 4 && w.ends_with("ing"))
+            && !joiners.iter().any(|j| j == "for")
+        {
+            return Some((i, 1));
+        }
+        None
+    })
 }
 
 /// The verb phrase at `at`, and how many words it takes there: the first word inflected, the
@@ -307,13 +645,10 @@ fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String> {
 }
 
 /// One reference's words. Every word must be placed, as determiner, adjective or noun; one
-/// that is not makes the reference match nothing.
+/// that is not makes the reference match nothing, and one the grammar could not place at all
+/// is said back ("pls" in "the mug pls").
 fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let words = span.join(" ");
-    let nothing = |words: String| Phrase {
-        reference: Reference::Nothing { words: words.clone() },
-        words,
-    };
     if span.len() == 1 && PRONOUNS.contains(&span[0].as_str())
         || span.len() == 2 && ["this", "that"].contains(&span[0].as_str()) && span[1] == "one"
     {
@@ -322,57 +657,76 @@ fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
             words,
         };
     }
-    let body = if DETERMINERS.contains(&span[0].as_str()) {
-        &span[1..]
-    } else {
-        span
+    let body = match span.first() {
+        Some(first) if DETERMINERS.contains(&first.as_str()) => &span[1..],
+        _ => span,
     };
-    if body.is_empty() {
-        return nothing(words);
-    }
-    // The head noun: the longest known noun ending the reference, or "one".
-    let (noun, head) = if body[body.len() - 1] == "one" {
-        (Noun::default(), 1)
-    } else {
-        let longest = lexicon.longest_within(body.len());
-        match (1..=longest)
-            .rev()
-            .find_map(|n| lexicon.noun(&body[body.len() - n..]).map(|k| (k, n)))
-        {
-            Some(found) => found,
-            None => return nothing(words),
-        }
-    };
-    let mut adjectives = Vec::new();
-    let mut i = 0;
-    let before = body.len() - head;
-    while i < before {
-        let longest = lexicon.longest_within(before - i);
-        match (1..=longest)
-            .rev()
-            .find_map(|n| lexicon.adjective(&body[i..i + n]).map(|s| (s, n)))
-        {
-            Some((senses, n)) => {
-                adjectives.push(senses);
-                i += n;
-            }
-            None => return nothing(words),
-        }
-    }
-    if noun == Noun::default() && adjectives.is_empty() {
-        // "the one": nothing narrows it, and the words name no object.
-        return nothing(words);
-    }
-    Phrase {
-        reference: Reference::Spoken {
+    let reference = match described(body, lexicon) {
+        Some((noun, adjectives)) => Reference::Spoken {
             kinds: noun.kinds,
             named: noun.named,
             adjectives,
             words: words.clone(),
             indefinite: ["a", "an"].contains(&span[0].as_str()),
         },
-        words,
+        None => Reference::Nothing {
+            words: words.clone(),
+            unplaced: unplaced(body, lexicon),
+        },
+    };
+    Phrase { reference, words }
+}
+
+/// `body` (a reference without its determiner) as adjectives and a head noun (or "one"), if
+/// every word is placed; "the one" alone names nothing.
+fn described(body: &[String], lexicon: &Lexicon) -> Option<(Noun, Vec<Vec<Sense>>)> {
+    let (noun, head) = match body.last()?.as_str() {
+        "one" => (Noun::default(), 1),
+        _ => lexicon.head_noun(body)?,
+    };
+    let adjectives = adjectives(&body[..body.len() - head], lexicon)?;
+    if noun == Noun::default() && adjectives.is_empty() {
+        return None;
     }
+    Some((noun, adjectives))
+}
+
+/// Every word of `words` placed as an adjective (the longest known phrase first), or `None`.
+fn adjectives(words: &[String], lexicon: &Lexicon) -> Option<Vec<Vec<Sense>>> {
+    let mut adjectives = Vec::new();
+    let mut i = 0;
+    while i < words.len() {
+        if lexicon.expired() {
+            return None;
+        }
+        let (senses, n) = lexicon.adjective_at(&words[i..])?;
+        adjectives.push(senses);
+        i += n;
+    }
+    Some(adjectives)
+}
+
+/// The words of a reference that failed which the grammar could not place at all: those after
+/// a complete reference ("pls" in "the mug pls", "to the right of the fork"), else a word it
+/// knows as a shape it does not read yet ("second", "mugs"). `None` when every word was
+/// understood as what it could be and the scene has nothing so described ("the wet mug").
+fn unplaced(body: &[String], lexicon: &Lexicon) -> Option<String> {
+    let shortest = body.len().saturating_sub(MAX_UNPLACED_TAIL).max(1);
+    for end in (shortest..body.len()).rev() {
+        if lexicon.expired() {
+            return None;
+        }
+        if described(&body[..end], lexicon).is_some() {
+            return Some(body[end..].join(" "));
+        }
+    }
+    let plural_of_known = |w: &String| {
+        (w.strip_suffix("es").into_iter().chain(w.strip_suffix('s')))
+            .any(|stem| !stem.is_empty() && lexicon.head_noun(&[stem.to_owned()]).is_some())
+    };
+    body.iter()
+        .find(|w| STRUCTURE.contains(&w.as_str()) || plural_of_known(w))
+        .cloned()
 }
 
 const YES: &[&[&str]] = &[
@@ -406,8 +760,30 @@ const ORDINALS: &[(&str, &str)] = &[
     ("tenth", "10th"),
 ];
 
+/// Answers that take back what was asked: nothing is to be done.
+const CANCEL: &[&[&str]] = &[
+    &["never", "mind"],
+    &["nevermind"],
+    &["cancel"],
+    &["cancel", "that"],
+    &["forget", "it"],
+    &["neither"],
+    &["none"],
+    &["none", "of", "them"],
+    &["nothing"],
+    &["stop"],
+];
+
 /// A follow-up answer's words; see `words::understand_answer`.
-pub fn read_answer(text: &str, scene: &Scene, lexicon: &Lexicon) -> Answer {
+pub fn read_answer(text: &str, lexicon: &Lexicon) -> Answer {
+    // An id answers as written, exactly: never lowered, never stripped inside ("c.1" is not
+    // "c1"); only the sentence's closing mark may follow it.
+    let trimmed = text.trim();
+    for id in [trimmed, trimmed.trim_end_matches(['.', '!', '?'])] {
+        if lexicon.scene().object(id).is_some() {
+            return Answer::Id(id.to_owned());
+        }
+    }
     let mut words: Vec<String> = tokens(text).into_iter().map(|t| t.word).collect();
     words.retain(|w| w != "please");
     for frame in [&["i", "mean"][..], &["i", "meant"]] {
@@ -420,6 +796,9 @@ pub fn read_answer(text: &str, scene: &Scene, lexicon: &Lexicon) -> Answer {
     }
     if NO.iter().any(|n| words == *n) {
         return Answer::No;
+    }
+    if CANCEL.iter().any(|c| words == *c) {
+        return Answer::Cancel(words.join(" "));
     }
     // "the second one", "second", "the 2nd".
     let body: Vec<&str> = words
@@ -435,17 +814,36 @@ pub fn read_answer(text: &str, scene: &Scene, lexicon: &Lexicon) -> Answer {
     {
         return Answer::Choice(n);
     }
-    if let [id] = words.as_slice()
-        && scene.object(id).is_some()
-    {
-        return Answer::Id(id.clone());
-    }
     if words.is_empty() {
-        return Answer::Reference(Reference::Nothing { words: String::new() });
+        return Answer::Reference(Reference::Nothing {
+            words: String::new(),
+            unplaced: None,
+        });
+    }
+    // "not the red one": every reading but those it names.
+    if words[0] == "not" && words.len() > 1 {
+        let by = reference_or_adjectives(&words[1..], lexicon);
+        let any = Reference::Described {
+            kind: None,
+            attributes: Default::default(),
+            properties: Vec::new(),
+        };
+        return Answer::Reference(Reference::Narrowed {
+            base: Box::new(any),
+            by: Box::new(by.reference),
+            keep: false,
+            words: words.join(" "),
+        });
+    }
+    // A whole directive of a verb the robot knows ("Get the vase instead."): decided afresh.
+    if let Understanding::Directive { parse, .. } = read(text, lexicon)
+        && lexicon.verbs.iter().any(|p| p.verb == parse.verb)
+    {
+        return Answer::Directive(text.to_owned());
     }
     match reference(&words, lexicon).reference {
         // An object spoken of by itself ("it") names nothing in an answer.
-        Reference::Pronoun { words } => Answer::Reference(Reference::Nothing { words }),
+        Reference::Pronoun { words } => Answer::Reference(Reference::Nothing { words, unplaced: None }),
         other => Answer::Reference(other),
     }
 }

@@ -46,19 +46,28 @@ pub enum Understanding {
     Directive { directive: Directive, parse: Parse },
     /// Not a directive; `words` are those that could not be placed (possibly all of them).
     NotUnderstood { why: Unclear, words: String },
+    /// The deadline passed (or the client left) before the words were read: nothing of them
+    /// may be acted on.
+    Expired,
 }
 
 /// Reads `text` against the objects of `scene` and the verbs of `library`; a pronoun is the
 /// first object of `focus` (most salient first), and with no focus it matches nothing.
-pub fn understand(text: &str, scene: &Scene, library: &Library, focus: &[String]) -> Understanding {
-    let lexicon = lexicon::Lexicon::new(scene, library);
+/// `expired` is asked while the scene's words are gathered and while long references are read.
+pub fn understand(
+    text: &str,
+    scene: &Scene,
+    library: &Library,
+    focus: &[String],
+    expired: &dyn Fn() -> bool,
+) -> Understanding {
+    let lexicon = lexicon::Lexicon::new(scene, library, expired);
     let mut understood = grammar::read(text, &lexicon);
     if let Understanding::Directive { directive, parse } = &mut understood
         && let (Some(first), Directive::Action { arguments, .. }) = (focus.first(), directive)
     {
         for (argument, phrase) in arguments.iter_mut().zip(&mut parse.references) {
-            if matches!(argument, Reference::Pronoun { .. }) {
-                *argument = Reference::Id(first.clone());
+            if point_at(argument, first) {
                 phrase.reference = argument.clone();
             }
         }
@@ -66,9 +75,23 @@ pub fn understand(text: &str, scene: &Scene, library: &Library, focus: &[String]
     understood
 }
 
-/// Reads a follow-up answer in words: "yes", "no", an ordinal into the question's readings
-/// ("the second one"), an object's id, or a reference ("the red one", whose "one" takes the
-/// question's type). Words that are none of these are a reference that matches nothing.
-pub fn understand_answer(text: &str, scene: &Scene) -> Answer {
-    grammar::read_answer(text, scene, &lexicon::Lexicon::new(scene, &Library::default()))
+/// Makes a pronoun of `reference` (itself, or the reference a narrowing narrows) the object
+/// `id`; whether there was one.
+fn point_at(reference: &mut Reference, id: &str) -> bool {
+    match reference {
+        Reference::Pronoun { .. } => {
+            *reference = Reference::Id(id.to_owned());
+            true
+        }
+        Reference::Narrowed { base, .. } => point_at(base, id),
+        _ => false,
+    }
+}
+
+/// Reads a follow-up answer in words: "yes", "no", "never mind", an ordinal into the question's
+/// readings ("the second one"), an object's id as written, "not the red one", a whole new
+/// directive of a known verb ("Get the vase."), or a reference ("the red one", whose "one" takes
+/// the question's type). Words that are none of these are a reference that matches nothing.
+pub fn understand_answer(text: &str, scene: &Scene, library: &Library, expired: &dyn Fn() -> bool) -> Answer {
+    grammar::read_answer(text, &lexicon::Lexicon::new(scene, library, expired))
 }
