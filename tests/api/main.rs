@@ -15,6 +15,7 @@ mod hardening;
 mod helpers;
 mod integrity;
 mod limits;
+mod never_drop;
 mod norms;
 mod observability;
 mod openapi;
