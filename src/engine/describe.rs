@@ -179,6 +179,11 @@ impl<'a> Describer<'a> {
         self.cache.insert(name.clone(), words);
     }
 
+    /// Whether `id` names the robot itself (the scene's agent): spoken "I" or "me".
+    pub fn is_agent(&self, id: &str) -> bool {
+        self.scene.agent.id == id
+    }
+
     /// Whether the scene object has an attribute of this key (`color`).
     pub fn has_attribute(&self, id: &str, key: &str) -> bool {
         self.scene.object(id).is_some_and(|o| o.attributes.contains_key(key))

@@ -158,6 +158,14 @@ pub struct NormSpec {
     pub exempt_roles: Vec<String>,
 }
 
+impl NormSpec {
+    /// Whether the norm holds only under conditions (facts, roles, a context): a reason it
+    /// gives is never spoken as if it forbade the action or state outright.
+    pub fn conditional(&self) -> bool {
+        !self.when.is_empty() || !self.roles.is_empty() || !self.exempt_roles.is_empty() || self.context.is_some()
+    }
+}
+
 /// Who asks and where: the context and the speaker's roles select the norms in force, and
 /// `soft` whether the soft norms are among them (off for `soft_norms: ignore`).
 #[derive(Clone, Copy, Debug)]

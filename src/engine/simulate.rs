@@ -26,10 +26,15 @@ pub enum Cause {
         about: Vec<Term>,
         note: Option<std::sync::Arc<str>>,
     },
-    /// `step` is done, and a norm forbids actions named `name`.
-    ForbiddenAction { step: Term, name: Sym },
+    /// `step` is done, and a norm forbids actions named `name`; `words` when that norm is
+    /// spoken by more than its kind (a note, or conditions).
+    ForbiddenAction {
+        step: Term,
+        name: Sym,
+        words: Option<Box<NormWords>>,
+    },
     /// The world would enter a state in which `fact` holds, and a norm forbids it.
-    ForbiddenState { fact: Term },
+    ForbiddenState { fact: Term, words: Option<Box<NormWords>> },
     /// The library has no verb of this name and arity.
     UnknownAction { verb: Sym },
     /// The object is farther than the agent's reach.
@@ -58,6 +63,21 @@ pub enum Cause {
         /// The verb's joiner ("on"), for the words.
         joiner: Option<String>,
     },
+}
+
+/// What a forbidden norm says beyond its kind, for the words of a reason that must say no more
+/// than the norm does: its note, and the conditions under which it applied.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormWords {
+    pub note: Option<std::sync::Arc<str>>,
+    /// Whether the norm has conditions: when, roles, exempt roles or a context.
+    pub conditional: bool,
+    /// Its `when` facts about the reading's objects, as they held (an object's type left out).
+    pub about: Vec<Term>,
+    /// The norm's roles that the speaker has.
+    pub roles: Vec<String>,
+    pub exempt_roles: Vec<String>,
+    pub context: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -117,7 +137,7 @@ impl Reason {
         match &self.cause {
             Cause::Soft { what, .. } => what.text(),
             Cause::ForbiddenAction { step, .. } => step.text(),
-            Cause::ForbiddenState { fact } | Cause::Precondition { fact } => fact.text(),
+            Cause::ForbiddenState { fact, .. } | Cause::Precondition { fact } => fact.text(),
             Cause::UnknownAction { verb } => verb.to_string(),
             Cause::Unreachable { object } | Cause::TooWide { object } | Cause::TooHeavy { object } => {
                 object.to_string()
@@ -144,7 +164,7 @@ impl Reason {
             Cause::ForbiddenAction { name, .. } => {
                 (NormKind::ForbiddenAction.reason_functor(), Term::Const(name.clone()))
             }
-            Cause::ForbiddenState { fact } => (NormKind::ForbiddenState.reason_functor(), fact.clone()),
+            Cause::ForbiddenState { fact, .. } => (NormKind::ForbiddenState.reason_functor(), fact.clone()),
             Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
             Cause::Unreachable { object } => ("unreachable", Term::Const(object.clone())),
             Cause::Blocked { object, by } => {
@@ -259,10 +279,10 @@ fn repeated_argument(action: &Term) -> Option<Sym> {
         .and_then(|(_, a)| a.name().cloned())
 }
 
-/// The soft reason for a norm met by `what` in a simulation of `reading`. Its `when` facts are
-/// kept where they name one of the reading's objects and are not just that object's type: the
-/// facts a reason's words name, as the world holds them (a `when` fact held when it matched).
-fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term, found: SoftMatch<'_>) -> Cause {
+/// The `when` facts of a norm met in a simulation of `reading` that its words name: those that
+/// name one of the reading's objects and are not just that object's type, as the world holds
+/// them (a `when` fact held when it matched).
+fn about(env: &Env<'_>, world: &World, reading: &Term, found: &SoftMatch<'_>) -> Vec<Term> {
     let objects = reading.args();
     let subst = found.solution;
     // An argument as the bindings make it: an object's id, or another constant.
@@ -283,12 +303,35 @@ fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term
             about.push(world.find(key).cloned().unwrap_or_else(|| literal.substitute(subst)));
         }
     }
+    about
+}
+
+/// The soft reason for a norm met by `what` in a simulation of `reading`.
+fn soft(env: &Env<'_>, world: &World, reading: &Term, kind: NormKind, what: Term, found: SoftMatch<'_>) -> Cause {
     Cause::Soft {
         kind,
         what,
-        about,
+        about: about(env, world, reading, &found),
         note: found.note.cloned(),
     }
+}
+
+/// What a forbidden norm met in a simulation of `reading` says beyond its kind.
+fn norm_words(env: &Env<'_>, world: &World, reading: &Term, found: Option<SoftMatch<'_>>) -> Option<Box<NormWords>> {
+    let found = found?;
+    let conditional =
+        !found.when.is_empty() || !found.roles.is_empty() || !found.exempt_roles.is_empty() || found.context.is_some();
+    Some(Box::new(NormWords {
+        note: found.note.cloned(),
+        conditional,
+        about: about(env, world, reading, &found),
+        roles: (found.roles.iter())
+            .filter(|r| env.roles.contains(r))
+            .cloned()
+            .collect(),
+        exempt_roles: found.exempt_roles.to_vec(),
+        context: found.context.map(str::to_owned),
+    }))
 }
 
 /// `did(self,action)`: the paper's convention for "action is done".
@@ -313,6 +356,8 @@ pub struct Env<'a> {
     /// The norms the request's context and speaker's roles put in force, less those no world
     /// of the request can meet.
     in_force: InForce,
+    /// The speaker's roles: a conditional norm's words say which of its roles made it apply.
+    roles: Vec<String>,
     /// Whether the request's deadline has passed or its client has gone: asked before every step
     /// is expanded, so that a verb whose plan explodes cannot hold a core past the deadline.
     pub expired: &'a (dyn Fn() -> bool + Sync),
@@ -347,6 +392,7 @@ impl<'a> Env<'a> {
             norms,
             library,
             in_force: norms.in_force(scope, &can_hold),
+            roles: scope.roles.to_vec(),
             expired,
         }
     }
@@ -383,6 +429,7 @@ impl Run<'_, '_> {
                 None => Cause::ForbiddenAction {
                     step: action.clone(),
                     name: v.name.clone(),
+                    words: norm_words(env, world, reading, v.words),
                 },
             };
             outcome.push(Reason::of_norm(cause, v.norm_id, v.severity));
@@ -395,7 +442,10 @@ impl Run<'_, '_> {
         env.norms.check_entered(new_facts, world, &env.in_force, &mut |v| {
             let cause = match v.soft {
                 Some(found) => soft(env, world, reading, v.kind, v.fact, found),
-                None => Cause::ForbiddenState { fact: v.fact },
+                None => Cause::ForbiddenState {
+                    words: norm_words(env, world, reading, v.words),
+                    fact: v.fact,
+                },
             };
             outcome.push(Reason::of_norm(cause, v.norm_id, v.severity));
         });

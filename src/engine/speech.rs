@@ -99,6 +99,11 @@ pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
 pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
     match &reason.cause {
         Cause::Soft { .. } => soft_words(reason, describer),
+        Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
+            if let Some(words) = said_of(reason, Style::Diarc, describer) =>
+        {
+            words
+        }
         Cause::ForbiddenAction { name, .. } => format!("{name} is forbidden action"),
         Cause::ForbiddenState { .. } => "it requires a forbidden state".to_owned(),
         Cause::UnknownAction { verb } => format!("I do not know how to {}", spoken(verb)),
@@ -247,6 +252,11 @@ pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String 
     let grave = reason.severity.unwrap_or(3) >= 4;
     match &reason.cause {
         Cause::Soft { .. } => soft_words(reason, describer),
+        Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
+            if let Some(words) = said_of(reason, Style::Natural, describer) =>
+        {
+            words
+        }
         Cause::ForbiddenAction { name, .. } => {
             let rule = if grave { "is forbidden" } else { "is not allowed" };
             format!("{} things {rule}", gerund(name))
@@ -269,6 +279,120 @@ pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String 
         Cause::Unfinished => "I ran out of time to check it".to_owned(),
         other => geometry_words(other, describer, true),
     }
+}
+
+/// A forbidden norm's reason in the words of the norm itself, where its kind alone would say
+/// more than it does: a conditional norm is spoken by its note, else by what made it apply
+/// ("getting the knife is forbidden for a child"); in the natural style an unconditional norm
+/// with a note is spoken by its note too. `None`: the kind's own words say exactly the norm.
+fn said_of(reason: &Reason, style: Style, describer: &mut Describer<'_>) -> Option<String> {
+    let (words, subject) = match &reason.cause {
+        Cause::ForbiddenAction { step, words, .. } => (words.as_deref()?, doing_step(step, describer)),
+        Cause::ForbiddenState { fact, words } => (words.as_deref()?, state_words(fact, describer)),
+        _ => return None,
+    };
+    if !words.conditional && style == Style::Diarc {
+        return None;
+    }
+    if let Some(note) = words.note.as_deref().and_then(note_words) {
+        return Some(note);
+    }
+    if !words.conditional {
+        return None;
+    }
+    let grave = reason.severity.unwrap_or(3) >= 4;
+    let rule = match style {
+        Style::Natural if !grave => "is not allowed",
+        _ => "is forbidden",
+    };
+    let mut said = format!("{subject} {rule}");
+    // A fact the object's own description already says ("the fragile vase" is fragile) is not
+    // said again.
+    let mut facts = Vec::new();
+    for fact in &words.about {
+        if !described_by(fact, describer)
+            && let Some(said) = fact_words(fact, describer)
+        {
+            facts.push(said);
+        }
+    }
+    if !facts.is_empty() {
+        said.push_str(" when ");
+        said.push_str(&listed(&unique(facts), "and"));
+    }
+    if let Some(role) = words.roles.first() {
+        said.push_str(&format!(" for {}", with_article(&spoken(role))));
+    }
+    if let Some(role) = words.exempt_roles.first() {
+        said.push_str(&format!(" except for {}", with_article(&spoken(role))));
+    }
+    if let Some(context) = &words.context {
+        // A context is any name ("tidy", "ward"): said as a context, never as a place.
+        said.push_str(&format!(" in the {} context", spoken(context)));
+    }
+    Some(said)
+}
+
+/// Whether a one-place fact is a word of its object's description: `fragile(vase1)` of "the
+/// fragile vase".
+fn described_by(fact: &Term, describer: &mut Describer<'_>) -> bool {
+    let (Some(functor), [object]) = (fact.name(), fact.args()) else {
+        return false;
+    };
+    let said = describer.argument(object);
+    let word = spoken(functor);
+    said.split(' ')
+        .collect::<Vec<_>>()
+        .windows(word.split(' ').count())
+        .any(|w| w.join(" ") == word)
+}
+
+/// "a child", "an owner".
+fn with_article(noun: &str) -> String {
+    match noun.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        true => format!("an {noun}"),
+        false => format!("a {noun}"),
+    }
+}
+
+/// A step as a gerund with its arguments described: "getting the knife", "putting the fork in
+/// the microwave".
+fn doing_step(step: &Term, describer: &mut Describer<'_>) -> String {
+    let verb = step.name().map(|n| gerund(n)).unwrap_or_else(|| step.to_string());
+    let arguments = describer.arguments(step);
+    match arguments.is_empty() {
+        true => verb,
+        false => format!("{verb} {arguments}"),
+    }
+}
+
+/// A forbidden state as the subject of a sentence: `did(self,get(knife1))` as the step it says
+/// was done ("getting the knife"), `holding(self,X)` as what the robot would be doing
+/// ("holding the vase"), any other fact as what would be ("the fork being in the microwave").
+fn state_words(fact: &Term, describer: &mut Describer<'_>) -> String {
+    let mine = |t: &Term| t.name().is_some_and(|id| describer.is_agent(id));
+    match (fact.name().map(|n| &**n), fact.args()) {
+        (Some("did"), [_, step]) => doing_step(step, describer),
+        // `holding(self,X)`: "holding the vase".
+        (Some(functor), [me, other]) if mine(me) => format!("{} {}", spoken(functor), describer.argument(other)),
+        // "the box is open" as a subject: "the box being open".
+        _ => match fact_words(fact, describer) {
+            Some(words) => words.replacen(" is ", " being ", 1),
+            None => fact.to_string(),
+        },
+    }
+}
+
+/// The words of `items`, each once, in the order first said: two norms that say the same thing
+/// are said once.
+fn unique(items: Vec<String>) -> Vec<String> {
+    let mut kept: Vec<String> = Vec::with_capacity(items.len());
+    for item in items {
+        if !kept.contains(&item) {
+            kept.push(item);
+        }
+    }
+    kept
 }
 
 /// The words for one reason in the given style: what `reasons[].words` carries.
@@ -375,7 +499,7 @@ fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<St
         return Some(first);
     };
     let all: Vec<String> = [first, second].into_iter().chain(facts).collect();
-    Some(listed(&all, "and"))
+    Some(listed(&unique(all), "and"))
 }
 
 /// A norm's note as words inside a sentence. The note is the operator's text, stored as written;
@@ -410,7 +534,19 @@ fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
     let functor = fact.name()?;
     let subject_id = fact.args().first()?.name()?;
     let mut words = String::with_capacity(48);
+    // The robot speaks of itself in the first person: "I am holding the mug".
+    let me = describer.is_agent(subject_id);
     match fact.args() {
+        [_] if me => {
+            words.push_str("I am ");
+            spoken_onto(functor, &mut words);
+        }
+        [_, other] if me => {
+            words.push_str("I am ");
+            spoken_onto(functor, &mut words);
+            words.push(' ');
+            describer.argument_into(other, &mut words);
+        }
         [subject] => {
             describer.argument_into(subject, &mut words);
             words.push_str(" is ");
@@ -442,7 +578,7 @@ fn although(i: &Interpretation, describer: &mut Describer<'_>) -> Option<(String
     let broken: Vec<&Reason> = i.outcome.discouraged().collect();
     let severity = broken.iter().filter_map(|r| r.severity).max()?;
     let words: Vec<String> = broken.iter().map(|r| soft_words(r, describer)).collect();
-    Some((listed(&words, "and"), severity))
+    Some((listed(&unique(words), "and"), severity))
 }
 
 /// Why `dispreferred` scores below `chosen`, and how strongly: the discouraged norms it breaks
@@ -463,20 +599,21 @@ fn dispreferred_reasons<'a>(dispreferred: &'a Interpretation, chosen: &'a Interp
     dispreferred.outcome.discouraged().collect()
 }
 
-/// The words of `reasons` (from [`dispreferred_reasons`]). A preferred norm with nothing to
-/// name is said of the chosen reading: "getting the plastic vase is preferred".
+/// The words of `reasons` (from [`dispreferred_reasons`]), said of the dispreferred reading
+/// itself: its own discouraged norms ("the dirty mug is dirty"); when what sets it below is a
+/// preference the chosen reading meets, only that it is less preferred than that reading ("it
+/// is less preferred than getting the plate"), never the chosen reading's reasons as its own.
 fn dispreferred_words(reasons: &[&Reason], chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
+    if reasons.iter().any(|r| r.force() == Some(Force::Preferred)) {
+        return format!("it is less preferred than {}", doing(chosen));
+    }
     let words: Vec<String> = (reasons.iter())
-        .map(|r| match (soft_words_named(r, describer), r.force()) {
-            (Some(words), _) => words,
-            (None, Some(Force::Preferred)) => format!("{} is preferred", doing(chosen)),
-            (None, _) => "it is discouraged".to_owned(),
-        })
+        .map(|r| soft_words_named(r, describer).unwrap_or_else(|| "it is discouraged".to_owned()))
         .collect();
     if words.is_empty() {
         return "it is discouraged".to_owned();
     }
-    listed(&words, "and")
+    listed(&unique(words), "and")
 }
 
 /// A reading in words: "get the plastic vase", its verb spoken and then its description.

@@ -172,7 +172,7 @@ async fn a_new_verb_is_simulated_with_its_preconditions_and_effects() {
     let answer = app.clarify(&request("open", &["box"], boxes(&[]))).await;
     assert_eq!(
         answer["utterance"],
-        "I cannot open the box because it requires a forbidden state."
+        "I cannot open the box because the box being open is forbidden."
     );
 }
 
@@ -221,7 +221,7 @@ async fn a_reading_is_acceptable_when_any_method_is_and_otherwise_carries_every_
     );
     assert_eq!(
         answer["utterance"],
-        "I am assuming you want me to tidy the plastic vase. I cannot tidy the fragile vase because get is forbidden action."
+        "I am assuming you want me to tidy the plastic vase. I cannot tidy the fragile vase because getting the fragile vase is forbidden."
     );
     assert!(pointing > 0);
 }

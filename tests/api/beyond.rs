@@ -147,7 +147,7 @@ async fn many_forbidden_readings_and_one_permissible_confirm_above_the_ratio() {
     assert_eq!(answer["decision"], "confirm");
     assert_eq!(answer["goal"], Value::Null);
     assert_eq!(answer["offered"], json!(["did(self,get(v3))"]));
-    assert!(answer["utterance"].as_str().unwrap().starts_with("Do you want me to get the white vase? I cannot get the fragile blue vase because it requires a forbidden state."));
+    assert!(answer["utterance"].as_str().unwrap().starts_with("Do you want me to get the white vase? I cannot get the fragile blue vase because holding the fragile blue vase is forbidden."));
 }
 
 #[tokio::test]
@@ -347,7 +347,7 @@ async fn reasons_carry_their_words_in_the_requests_style() {
     let answer = app.clarify(&natural).await;
     assert_eq!(
         answer["interpretations"][0]["reasons"][0]["words"],
-        "destroying things is not allowed"
+        "destroying any object is forbidden"
     );
 }
 
@@ -490,7 +490,11 @@ async fn checks_while_acting_use_the_norms_in_force_now_and_carry_effects_betwee
     assert_eq!(alone["steps"][0]["reasons"][0]["kind"], "unknown_action");
     let held = post(check(json!(["get(object5)", "smash(object5)"]))).await;
     assert_eq!(held["steps"][1]["permissible"], false);
-    assert_eq!(held["steps"][1]["reasons"][0]["words"], "smash is forbidden action");
+    // The norm holds only while the mug is held: it is said so, never as "smash is forbidden".
+    assert_eq!(
+        held["steps"][1]["reasons"][0]["words"],
+        "smashing the mug is forbidden when I am holding the mug"
+    );
 
     // A norm added partway through is in force for the next check.
     app.add_norm(&json!({"kind": "forbidden_action", "action": "get(object4)"}))
@@ -503,7 +507,7 @@ async fn checks_while_acting_use_the_norms_in_force_now_and_carry_effects_betwee
     natural["options"] = json!({"style": "natural"});
     assert_eq!(
         post(natural).await["utterance"],
-        "I can't go on to get the fragile vase: it would lead to a state I am not allowed to bring about."
+        "I can't go on to get the fragile vase: the fragile vase may not be got."
     );
 
     for (steps, field) in [

@@ -145,7 +145,7 @@ async fn context_norms_apply_only_to_requests_in_that_context() {
     assert_eq!(answer["decision"], "refuse");
     assert_eq!(
         answer["utterance"],
-        "I cannot get the mug because get is forbidden action."
+        "I cannot get the mug because getting the mug is forbidden in the hospital context."
     );
 }
 

@@ -119,7 +119,7 @@ async fn the_stronger_norm_wins_a_conflict() {
     assert_eq!(answer["goal"], "did(self,get(plate1))");
     assert_eq!(
         answer["utterance"],
-        "I am assuming you want me to get the plate. I would rather not get the cup because the plate is broken."
+        "I am assuming you want me to get the plate. I would rather not get the cup because it is less preferred than getting the plate."
     );
     let scores: Vec<&Value> = (answer["interpretations"].as_array().unwrap().iter())
         .map(|i| &i["norm_score"])

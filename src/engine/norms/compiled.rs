@@ -49,14 +49,17 @@ pub struct CompiledNorms {
     fact_keys: rustc_hash::FxHashSet<(Sym, usize)>,
 }
 
-/// What a soft norm that counted was about, for the words of the reason: its `when` facts and
-/// the bindings under which they held (borrowed for the moment the check hands it over, so that
-/// only the facts that are spoken are ever built), and its note.
+/// What a norm that counted was about, for the words of the reason: its `when` facts and the
+/// bindings under which they held (borrowed for the moment the check hands it over, so that
+/// only the facts that are spoken are ever built), its note, and whom and where it is for.
 #[derive(Clone, Copy, Debug)]
 pub struct SoftMatch<'a> {
     pub when: &'a [Term],
     pub solution: &'a Subst,
     pub note: Option<&'a Arc<str>>,
+    pub roles: &'a [String],
+    pub exempt_roles: &'a [String],
+    pub context: Option<&'a str>,
 }
 
 /// An action norm met: which norm, and the name it is about (spoken in refusals).
@@ -68,6 +71,10 @@ pub struct ActionViolation<'a> {
     pub name: &'a Sym,
     /// Set for a soft norm only.
     pub soft: Option<SoftMatch<'a>>,
+    /// Set for a forbidden norm that is spoken by more than its kind: one with a note, or with
+    /// conditions (`when`, roles, exempt roles, a context), which must never be spoken as if
+    /// it forbade the action outright.
+    pub words: Option<SoftMatch<'a>>,
 }
 
 /// A state norm met by a state entered: which norm, and the fact (the norm's state,
@@ -80,6 +87,8 @@ pub struct StateViolation<'a> {
     pub fact: Term,
     /// Set for a soft norm only.
     pub soft: Option<SoftMatch<'a>>,
+    /// As for an action norm: a forbidden norm's note and conditions.
+    pub words: Option<SoftMatch<'a>>,
 }
 
 impl Rule {
@@ -88,15 +97,29 @@ impl Rule {
         (self.keys.iter().enumerate()).all(|(i, key)| Some(i) == skip || key.as_ref().is_none_or(|k| world.may_hold(k)))
     }
 
-    /// The soft match under `solution`, for a soft rule; `None` for a forbidden one, which
-    /// needs no words beyond its kind.
-    fn soft_match<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
+    /// The match under `solution`.
+    fn matched<'a>(&'a self, solution: &'a Subst) -> SoftMatch<'a> {
         let spec = &self.norm.spec;
-        spec.kind.is_soft().then_some(SoftMatch {
+        SoftMatch {
             when: &spec.when,
             solution,
             note: self.note.as_ref(),
-        })
+            roles: &spec.roles,
+            exempt_roles: &spec.exempt_roles,
+            context: spec.context.as_deref(),
+        }
+    }
+
+    /// The soft match under `solution`, for a soft rule.
+    fn soft_match<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
+        self.norm.spec.kind.is_soft().then(|| self.matched(solution))
+    }
+
+    /// The words of a forbidden rule beyond its kind, under `solution`: `None` for a soft rule,
+    /// and for a forbidden one with no note and no condition (the paper's own norms as words).
+    fn words<'a>(&'a self, solution: &'a Subst) -> Option<SoftMatch<'a>> {
+        let spec = &self.norm.spec;
+        (!spec.kind.is_soft() && (self.note.is_some() || spec.conditional())).then(|| self.matched(solution))
     }
 }
 
@@ -221,6 +244,7 @@ impl CompiledNorms {
                     severity: spec.severity,
                     name,
                     soft: rule.soft_match(solution),
+                    words: rule.words(solution),
                 });
                 false
             });
@@ -281,6 +305,7 @@ impl CompiledNorms {
                         severity: rule.norm.spec.severity,
                         fact: state,
                         soft: rule.soft_match(solution),
+                        words: rule.words(solution),
                     });
                     !soft
                 });

@@ -16,7 +16,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object4))"),
-                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because holding the fragile vase is forbidden.",
             )
             .interps(vec![
                 interp(
@@ -47,7 +47,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object4))"),
-                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because get is forbidden action.",
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because getting the fragile vase is forbidden when the fragile vase is on table1.",
             )
             .interps(vec![
                 interp("did(self,get(object3))", "the fragile vase", vec![(FA, "get(object3)", Some(1))], &["get(object3)"]),
@@ -62,7 +62,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Explain,
                 None,
-                "I believe that I cannot get the fragile vase because get is forbidden action and that I cannot get the plastic vase because get is forbidden action.",
+                "I believe that I cannot get the fragile vase because getting the fragile vase is forbidden when the fragile vase is on table1 and that I cannot get the plastic vase because getting the plastic vase is forbidden.",
             ),
         ),
         case(
@@ -84,7 +84,7 @@ fn conditional_and_contextual_norms() {
             lab(),
             norms(&[when(fs("did(self,put(X,Y))"), &["did(self,get(X))"])]),
             act("put", vec![ty_with("notebook", &[], &[("color", "red")]), ty("mug")]),
-            expect(Refuse, None, "I cannot put the red notebook on the mug because it requires a forbidden state.")
+            expect(Refuse, None, "I cannot put the red notebook on the mug because putting the red notebook on the mug is forbidden.")
                 .interps(vec![interp(
                     "did(self,put(object1,object5))",
                     "the red notebook on the mug",
@@ -100,7 +100,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object2))"),
-                "I am assuming you want me to get the green notebook. I cannot get the red notebook because it requires a forbidden state.",
+                "I am assuming you want me to get the green notebook. I cannot get the red notebook because holding the red notebook is forbidden when the color of the red notebook is red.",
             ),
         ),
         case(
@@ -111,7 +111,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object4))"),
-                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because the fragile vase being fragile is forbidden when I am holding the fragile vase.",
             )
             .interps(vec![
                 interp(
@@ -135,7 +135,7 @@ fn conditional_and_contextual_norms() {
             lab(),
             norms(&[in_context(fa("get"), "hospital")]),
             with_context(act("get", vec![ty("mug")]), "hospital"),
-            expect(Refuse, None, "I cannot get the mug because get is forbidden action.")
+            expect(Refuse, None, "I cannot get the mug because getting the mug is forbidden in the hospital context.")
                 .interps(vec![interp("did(self,get(object5))", "the mug", vec![(FA, "get(object5)", Some(1))], &["get(object5)"])]),
         ),
         case(
@@ -160,7 +160,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object4))"),
-                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because it requires a forbidden state.",
+                "I am assuming you want me to get the plastic vase. I cannot get the fragile vase because getting the fragile vase is forbidden in the hospital context.",
             ),
         ),
         case(
@@ -224,7 +224,7 @@ fn conditions_on_facts_only_the_simulation_makes_true() {
             expect(
                 Refuse,
                 None,
-                "I cannot put the red notebook on the mug because put is forbidden action.",
+                "I cannot put the red notebook on the mug because putting the red notebook on the mug is forbidden when I am holding the red notebook.",
             ),
         ),
         case(
@@ -235,7 +235,7 @@ fn conditions_on_facts_only_the_simulation_makes_true() {
             expect(
                 Refuse,
                 None,
-                "I cannot put the red notebook on the mug because it requires a forbidden state.",
+                "I cannot put the red notebook on the mug because the red notebook being on the mug is forbidden.",
             ),
         ),
         case(
@@ -246,4 +246,107 @@ fn conditions_on_facts_only_the_simulation_makes_true() {
             expect(Comply, Some("did(self,get(object5))"), "Okay."),
         ),
     ]);
+}
+
+/// Issue 50, §2: a norm about knives and children refused a child's "Hand me the knife." with
+/// "get is forbidden action" / "Getting things is forbidden.", telling a child that getting
+/// anything is forbidden. A conditional norm is spoken by its note, else by what made it apply;
+/// the paper's unconditional norms keep their words in the diarc style.
+#[test]
+fn a_conditional_norm_is_never_spoken_as_absolute() {
+    use crate::engine::decision::Style;
+    let kitchen = || {
+        scene(
+            vec![
+                obj("knife1", "knife", &[], &[], [0.5, 0.0, 0.8], None),
+                obj("spoon1", "spoon", &[], &[], [0.5, 0.2, 0.8], None),
+            ],
+            &[],
+        )
+    };
+    let knives_for_children = |note: Option<&str>| NormInput {
+        note: note.map(str::to_owned),
+        roles: Some(vec!["child".into()]),
+        ..when(fa("get(X)"), &["knife(X)"])
+    };
+    let child = |text: &str, style: Style| Request {
+        speaker_roles: vec!["child".into()],
+        options: Options {
+            style,
+            ..Options::default()
+        },
+        ..request(Directive::Words { text: text.into() })
+    };
+    for (note, style, utterance) in [
+        (
+            Some("never hand knives to children"),
+            Style::Diarc,
+            "I cannot get the knife because never hand knives to children.",
+        ),
+        (
+            Some("never hand knives to children!"),
+            Style::Natural,
+            "I won't get the knife: never hand knives to children.",
+        ),
+        (
+            None,
+            Style::Diarc,
+            "I cannot get the knife because getting the knife is forbidden for a child.",
+        ),
+        (
+            None,
+            Style::Natural,
+            "I won't get the knife: getting the knife is not allowed for a child.",
+        ),
+    ] {
+        let d = run(
+            &child("Hand me the knife.", style),
+            &kitchen(),
+            &norms(&[knives_for_children(note)]),
+        );
+        assert_eq!(d.kind, Refuse, "{note:?}");
+        assert_eq!(d.utterance, utterance, "{note:?} {style:?}");
+        // The norm forbids nothing else: the spoon is got.
+        let d = run(
+            &child("Hand me the spoon.", style),
+            &kitchen(),
+            &norms(&[knives_for_children(note)]),
+        );
+        assert_eq!(d.kind, Comply);
+    }
+    // In the natural style an unconditional norm with a note is spoken by its note; in the
+    // diarc style by the paper's words.
+    let destroy = || NormInput {
+        note: Some("destroying any object is forbidden.".into()),
+        ..fa("destroy")
+    };
+    let d = run(&natural(act("destroy", vec![ty("mug")])), &lab(), &norms(&[destroy()]));
+    assert_eq!(
+        d.utterance,
+        "I won't destroy the mug: destroying any object is forbidden."
+    );
+    let d = run(&act("destroy", vec![ty("mug")]), &lab(), &norms(&[destroy()]));
+    assert_eq!(
+        d.utterance,
+        "I cannot destroy the mug because destroy is forbidden action."
+    );
+}
+
+/// Two norms that give the same reason in the same words are said once.
+#[test]
+fn a_reason_two_norms_give_is_said_once() {
+    let dirty = || NormInput {
+        severity: Some(2),
+        ..when(
+            NormInput {
+                kind: Some("discouraged_action".into()),
+                action: Some("get(X)".into()),
+                ..NormInput::default()
+            },
+            &["dirty(X)"],
+        )
+    };
+    let scene = scene(vec![obj("mug1", "mug", &["dirty"], &[], [0.5, 0.0, 0.8], None)], &[]);
+    let d = run(&act("get", vec![ty("mug")]), &scene, &norms(&[dirty(), dirty()]));
+    assert_eq!(d.utterance, "Okay, although the mug is dirty.");
 }

@@ -202,7 +202,7 @@ fn the_directive_itself_is_checked_as_a_step_in_the_world_before_it() {
         expect(
             Refuse,
             None,
-            "I cannot put the red notebook on the mug because put is forbidden action.",
+            "I cannot put the red notebook on the mug because putting the red notebook on the mug is forbidden when I am holding the red notebook.",
         )
         .interps(vec![interp(
             "did(self,put(object1,object5))",

@@ -194,7 +194,7 @@ fn serving_and_tidying() {
             expect(
                 Assume,
                 Some("did(self,get(plate1))"),
-                "I am assuming you want me to get the plate. I would rather not get the cup because the plate is broken.",
+                "I am assuming you want me to get the plate. I would rather not get the cup because it is less preferred than getting the plate.",
             )
             .interps(vec![
                 interp("did(self,get(cup1))", "the cup", vec![(PA, "get(cup1)", Some(1))], &["get(cup1)"]),
@@ -386,7 +386,7 @@ fn soft_norms_by_role_state_and_words() {
             expect(
                 Assume,
                 Some("did(self,get(mug1))"),
-                "I am assuming you want me to get the clean mug. I would rather not get the dirty mug because getting the clean mug is preferred.",
+                "I am assuming you want me to get the clean mug. I would rather not get the dirty mug because it is less preferred than getting the clean mug.",
             ),
         ),
         case(
