@@ -47,7 +47,7 @@ const SIMULATE_CHUNK: usize = 64;
 /// From this many readings on, they are described on rayon's pool, a batch per task: a reading
 /// is described in about a microsecond once its objects are, so fewer are not worth a task and
 /// a describer (whose descriptions are then made again) each.
-const DESCRIBE_APART_FROM: usize = 2048;
+pub(crate) const DESCRIBE_APART_FROM: usize = 2048;
 /// Facts from which a decision's fact base is freed on rayon's pool rather than by the caller.
 const LARGE_BASE: usize = 4096;
 /// Readings described by one task of the pool (each looks at the deadline as it goes).

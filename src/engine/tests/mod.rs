@@ -29,6 +29,7 @@ mod plans;
 mod runner;
 mod safety;
 mod scenes;
+mod shapes;
 mod soft;
 mod verbs;
 mod words;

@@ -554,10 +554,11 @@ fn random_cases_reach_every_decision_and_reason_kind() {
     );
 }
 
-/// Enough readings to run on rayon's pool: one thread or four, the same decision, byte for byte.
+/// Enough readings to be simulated, described and worded on rayon's pool (more than 2,048): one
+/// thread or four, the same decision, byte for byte.
 #[test]
 fn the_decision_is_the_same_whatever_the_thread_count() {
-    let objects = cups_and_plates(40, |i| {
+    let objects = cups_and_plates(50, |i| {
         let far = if i % 7 == 0 { 3.0 } else { 0.5 };
         obj(&format!("cup{i}"), "cup", &[], &[], [far, 0.01 * i as f64, 0.8], None)
     });
@@ -569,8 +570,8 @@ fn the_decision_is_the_same_whatever_the_thread_count() {
         pool.install(|| clarify(&request, &scene, &norms, &Library::default_library(), &|| false).unwrap())
     };
     let one = run_on(1);
-    assert_eq!(one.interpretations.len(), 1600);
-    assert!(one.interpretations.len() >= crate::engine::clarify::PARALLEL_FROM);
+    assert_eq!(one.interpretations.len(), 2500);
+    assert!(one.interpretations.len() >= crate::engine::clarify::DESCRIBE_APART_FROM);
     assert_eq!(one, run_on(4));
     assert_eq!(one, run_on(2));
 }

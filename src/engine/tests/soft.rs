@@ -516,3 +516,55 @@ fn a_check_permits_a_step_that_breaks_a_discouraged_norm_and_says_why() {
         "I cannot destroy the mug because destroy is forbidden action."
     );
 }
+
+/// A follow-up's `choice` counts among the readings the question offered, which soft norms
+/// change: a dispreferred reading first in the contract's order is never what "the first one"
+/// picks.
+#[test]
+fn a_choice_counts_among_what_soft_norms_left_offered() {
+    use crate::engine::request::Answer;
+    let scene = scene(
+        vec![
+            obj("mug1", "mug", &["chipped"], &[], [0.5, 0.0, 0.8], None),
+            obj("mug2", "mug", &["clean"], &[("color", "red")], [0.5, 0.1, 0.8], None),
+            obj("mug3", "mug", &["clean"], &[("color", "green")], [0.5, 0.2, 0.8], None),
+        ],
+        &[],
+    );
+    let norms = norms(&[when(soft(DA, "get(X)", 3), &["chipped(X)"])]);
+    let asked = run(&act("get", vec![ty("mug")]), &scene, &norms);
+    assert_eq!(asked.kind, Ask);
+    assert_eq!(asked.interpretations[0].description, "the chipped mug");
+    let offered: Vec<String> = asked.offered.iter().map(ToString::to_string).collect();
+    assert_eq!(offered, ["did(self,get(mug3))", "did(self,get(mug2))"]);
+    for (choice, goal) in [(0, "did(self,get(mug3))"), (1, "did(self,get(mug2))")] {
+        let request = Request {
+            answer: Some(Answer::Choice(choice)),
+            ..act("get", vec![ty("mug")])
+        };
+        let d = run(&request, &scene, &norms);
+        assert_eq!(
+            d.goal.as_ref().map(ToString::to_string).as_deref(),
+            Some(goal),
+            "{choice}"
+        );
+    }
+    let third = Request {
+        answer: Some(Answer::Choice(2)),
+        ..act("get", vec![ty("mug")])
+    };
+    assert!(clarify(&third, &scene, &norms, &Library::default_library(), &|| false).is_err());
+    // In words too: "the first one".
+    let words = Request {
+        answer: Some(Answer::Words("the first one".into())),
+        ..act("get", vec![ty("mug")])
+    };
+    assert_eq!(
+        run(&words, &scene, &norms)
+            .goal
+            .as_ref()
+            .map(ToString::to_string)
+            .as_deref(),
+        Some("did(self,get(mug3))")
+    );
+}
