@@ -139,14 +139,19 @@ async fn direction_controls_are_not_echoed() {
 #[tokio::test]
 async fn long_words_over_long_properties_end_by_the_deadline() {
     let app = with_paper_norms().await;
-    let property = |i: usize, j: usize| format!("p{i}{}", "_x".repeat(30 + j % 7));
+    // Each object is "x", and phrases of 40 to 59 x's: every word of the reference is an
+    // adjective, and at every word each length of phrase is worth looking up.
+    let property = |i: usize, j: usize| match j {
+        0 => "x".to_owned(),
+        _ => format!("{}p{i}_{j}", "x_".repeat(40 + j % 20)),
+    };
     let objects: Vec<Value> = (0..11)
         .map(|i| {
             let properties: Vec<String> = (0..100).map(|j| property(i, j)).collect();
             json!({"id": format!("o{i}"), "type": "thing", "properties": properties, "position": [0.5, 0, 0.8]})
         })
         .collect();
-    let words = vec!["x"; 490].join(" ");
+    let words = vec!["x"; 480].join(" ");
     let mut request = said(
         &format!("Get the {words} thing."),
         json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects}),
