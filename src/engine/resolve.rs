@@ -92,10 +92,15 @@ impl Reference {
             }
             return Ok(Reference::Id(id));
         }
-        if input.kind.is_none() && input.attributes.is_none() && input.properties.is_none() {
+        // An empty list or map says nothing about the object: `{"properties": []}` is as empty as
+        // `{}` (and as gRPC's default message, which cannot tell them apart).
+        let says_nothing = input.kind.is_none()
+            && input.attributes.as_ref().is_none_or(|a| a.is_empty())
+            && input.properties.as_ref().is_none_or(|p| p.is_empty());
+        if says_nothing {
             return Err(Invalid::new(
                 "",
-                "a reference needs `id`, or `type` with optional attributes and properties",
+                "a reference needs `id`, `type`, or at least one property or attribute",
             ));
         }
         if let Some(kind) = &input.kind {

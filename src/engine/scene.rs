@@ -467,6 +467,12 @@ pub fn grasp_width(object: &Object) -> f64 {
     }
 }
 
+/// Metres by which an item's footprint may exceed its support's and still fit: the boxes are
+/// computed in single precision at the objects' positions, so two equal shapes differ by a
+/// rounding that depends on where they stand (a notebook fitted on its twin one way and not the
+/// other). A tenth of a millimetre is far above that rounding and far below any real misfit.
+const ROOM_TOLERANCE: Real = 1e-4;
+
 /// Whether `item` fits on top of `support`: the item's footprint (the x and y extents of its
 /// world-frame bounding box) fits within the support's, in either orientation about z. A ball
 /// has no flat top; a point item fits on any support with a shape.
@@ -488,7 +494,7 @@ pub fn room_on(support: &Object, item: &Object) -> bool {
         None => true,
         Some((pose, shape)) => {
             let (need_a, need_b) = footprint(&pose, &shape);
-            need_a <= room_a && need_b <= room_b
+            need_a <= room_a + ROOM_TOLERANCE && need_b <= room_b + ROOM_TOLERANCE
         }
     }
 }

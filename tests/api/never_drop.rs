@@ -218,3 +218,27 @@ async fn an_indefinite_is_never_assumed_on_a_partial_view() {
         );
     }
 }
+
+/// Finding 3.6: a reference of only `{"properties": []}` or `{"attributes": {}}` was "any object"
+/// over REST and INVALID_ARGUMENT over gRPC: one rule, a 422 naming the reference.
+#[tokio::test]
+async fn a_reference_that_says_nothing_is_refused_as_grpc_refuses_it() {
+    let app = with_paper_norms().await;
+    for reference in [
+        json!({"properties": []}),
+        json!({"attributes": {}}),
+        json!({"properties": [], "attributes": {}}),
+        json!({}),
+    ] {
+        let body = json!({"directive": {"action": "get", "arguments": [reference]}, "scene": lab_scene()});
+        crate::helpers::assert_problem(
+            app.post("/v1/clarify", &body).await,
+            reqwest::StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/directive/arguments/0"),
+        )
+        .await;
+    }
+    let body =
+        json!({"directive": {"action": "get", "arguments": [{"properties": ["fragile"]}]}, "scene": lab_scene()});
+    assert_eq!(app.clarify(&body).await["decision"], "refuse");
+}

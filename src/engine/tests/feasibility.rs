@@ -220,3 +220,45 @@ fn feasibility_cases() {
         ),
     ]);
 }
+
+/// Issue 50, §3.5: "no room" compared boxes rounded where the objects stand, so the red
+/// notebook fitted on the green one and the green one not on the red. Twins fit both ways.
+#[test]
+fn twin_supports_make_room_for_each_other_wherever_they_stand() {
+    let library = Library::default_library();
+    for (a, b) in [("object1", "object2"), ("object2", "object1")] {
+        let d = clarify(&act("put", vec![id(a), id(b)]), &lab(), &norms(&[]), &library, &|| {
+            false
+        })
+        .unwrap();
+        assert!(
+            d.interpretations[0]
+                .outcome
+                .reasons
+                .iter()
+                .all(|r| r.kind() != "no_room"),
+            "{a} on {b}: {}",
+            d.utterance
+        );
+    }
+    for y in [-0.4, -0.08, 0.013, 0.37, 1.0e-3, 0.3333] {
+        let twin = |id: &str, y: f64| obj(id, "notebook", &[], &[], [0.55, y, 0.76], notebook_shape());
+        let objects = vec![twin("n1", y), twin("n2", y + 0.29)];
+        let scene = scene(objects, &[]);
+        for (a, b) in [("n1", "n2"), ("n2", "n1")] {
+            let d = clarify(&act("put", vec![id(a), id(b)]), &scene, &norms(&[]), &library, &|| {
+                false
+            })
+            .unwrap();
+            assert!(
+                d.interpretations[0]
+                    .outcome
+                    .reasons
+                    .iter()
+                    .all(|r| r.kind() != "no_room"),
+                "{a} on {b} at {y}: {}",
+                d.utterance
+            );
+        }
+    }
+}

@@ -135,3 +135,34 @@ fn a_phrase_names_one_verb_and_the_clash_is_told_on_the_verb_being_stored() {
     // Loading, with no verb being stored, still refuses the clash.
     assert!(library.check_words("").is_err());
 }
+
+/// Issue 50, §3.10: `snatch` could take "grabbed" while "grab" names `get` ("Grabbed the cup."
+/// was `get`), and "the", "please", "can", "go" were accepted as verb words and "and" as a
+/// joiner.
+#[test]
+fn verb_words_that_clash_once_inflected_or_are_the_grammars_own_are_refused() {
+    let verb = |json: &str| serde_json::from_str::<crate::engine::action::ActionInput>(json).unwrap();
+    let mut library = Library::default_library();
+    let snatch = verb(r#"{"parameters": ["X"], "methods": [{}], "words": ["grabbed"]}"#)
+        .validate("snatch")
+        .unwrap();
+    library.insert(snatch).unwrap();
+    let (at, err) = library.check_words("snatch").unwrap_err();
+    assert_eq!(at, "snatch");
+    assert_eq!(err.field, "/words/0");
+    assert_eq!(
+        err.message,
+        "`grabbed` and `grab` are forms of one word, and `grab` names the verb `get`"
+    );
+    for word in ["the", "please", "can", "go", "now", "and"] {
+        let json = format!(r#"{{"parameters": ["X"], "methods": [{{}}], "words": ["{word} it"]}}"#);
+        let err = verb(&json).validate("odd").unwrap_err();
+        assert_eq!(err.field, "/words/0", "{word}");
+    }
+    for joiner in ["and", "then", "the", "or"] {
+        let json =
+            format!(r#"{{"parameters": ["X", "Y"], "methods": [{{}}], "words": ["fling"], "joiners": ["{joiner}"]}}"#);
+        let err = verb(&json).validate("fling").unwrap_err();
+        assert_eq!(err.field, "/joiners/0", "{joiner}");
+    }
+}

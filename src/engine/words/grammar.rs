@@ -148,6 +148,25 @@ const STRUCTURE: &[&str] = &[
 /// tail is reported as the whole reference.
 const MAX_UNPLACED_TAIL: usize = 12;
 
+/// Whether `word` is one the grammar reads as itself (a determiner, a pronoun, a frame, a
+/// question, a negation, a manner word, a joiner of steps): it cannot be the first word of a
+/// verb's phrase, or "the mug" and "please" would read as verbs.
+pub fn grammar_word(word: &str) -> bool {
+    [
+        DETERMINERS,
+        PRONOUNS,
+        QUESTION_WORDS,
+        FUNCTION_WORDS,
+        STEP_WORDS,
+        &[
+            "can", "could", "will", "would", "just", "go", "don't", "dont", "never", "one", "then", "so",
+        ][..],
+    ]
+    .iter()
+    .any(|list| list.contains(&word))
+        || MANNER.iter().any(|m| m[0] == word)
+}
+
 /// One word of the text, lower case, and whether a comma followed it.
 #[derive(Clone, Debug)]
 struct Token {

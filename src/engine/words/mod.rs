@@ -10,6 +10,7 @@
 mod grammar;
 mod lexicon;
 
+pub use grammar::grammar_word;
 pub use lexicon::inflects;
 
 use super::action::Library;
