@@ -4,7 +4,7 @@
 //! norms; both outputs must equal their golden files (`server.jsonl`, `replay.jsonl`) byte for
 //! byte. An entry's `server` may set an admin token and a body limit. The golden files were made before the code was reshaped and committed on their own, so
 //! a diff of them is a change of behaviour. `SCRUPLE_BLESS=1 cargo test --test api golden`
-//! rewrites them, for a change of behaviour that is meant.
+//! (exactly `1`) rewrites them, for a change of behaviour that is meant.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -75,11 +75,26 @@ fn lines(values: &[Value]) -> String {
     values.iter().map(|v| format!("{v}\n")).collect()
 }
 
+/// Whether the golden files are rewritten rather than compared: only when `SCRUPLE_BLESS` is
+/// exactly `1`. Any other value (`0`, empty, `false`) compares, as one would read it.
+fn blessing(value: Option<&std::ffi::OsStr>) -> bool {
+    value.is_some_and(|v| v == "1")
+}
+
+#[test]
+fn only_scruple_bless_1_rewrites_the_golden_files() {
+    assert!(blessing(Some("1".as_ref())));
+    for value in ["0", "", "false", "no", " 1", "1 ", "01", "yes", "true"] {
+        assert!(!blessing(Some(value.as_ref())), "SCRUPLE_BLESS={value:?} blesses");
+    }
+    assert!(!blessing(None));
+}
+
 /// Compares with the golden file, or writes it under `SCRUPLE_BLESS=1`.
 fn against_golden(name: &str, values: &[Value]) {
     let path = golden_dir().join(name);
     let text = lines(values);
-    if std::env::var_os("SCRUPLE_BLESS").is_some() {
+    if blessing(std::env::var_os("SCRUPLE_BLESS").as_deref()) {
         std::fs::write(&path, &text).unwrap();
         return;
     }
