@@ -17,15 +17,13 @@ mod support;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 
 use serde::Deserialize;
 use serde_yaml_ng::Value;
 
 /// The manifest that is an example to apply by hand, not part of the kustomization.
 const POSTGRES_EXAMPLE: &str = "postgres-example.yaml";
-
-const BINARY: &str = env!("CARGO_BIN_EXE_scruple");
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -313,7 +311,7 @@ fn numeric_uid(user: &Instruction) -> u64 {
 
 /// The variables `scruple serve --help` lists as `[env: NAME...]`.
 fn known_env() -> BTreeSet<String> {
-    let output = Command::new(BINARY)
+    let output = support::scruple()
         .args(["serve", "--help"])
         .output()
         .expect("scruple serve --help runs");
@@ -366,13 +364,10 @@ impl Drop for Server {
 /// (the flags override the environment's listen address and store); its log goes to `dir/stderr`.
 fn serve(env: &BTreeMap<String, String>, dir: &Path) -> Server {
     let log = dir.join("stderr");
-    let mut command = Command::new(BINARY);
+    let mut command = support::scruple();
     command
         .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
         .arg(format!("sqlite://{}", dir.join("deploy.db").display()));
-    for (name, _) in std::env::vars().filter(|(name, _)| name.starts_with("SCRUPLE_")) {
-        command.env_remove(name);
-    }
     let mut child = command
         .envs(env)
         .stdout(Stdio::piped())
@@ -671,7 +666,7 @@ fn every_config_map_and_secret_key_the_pods_read_exists_and_every_key_is_read() 
 /// The default of a `scruple serve` flag, as `--help` prints it (`[default: N]` after its
 /// `[env: NAME=...]`).
 fn default_of(env: &str) -> Option<String> {
-    let output = Command::new(BINARY).args(["serve", "--help"]).output().unwrap();
+    let output = support::scruple().args(["serve", "--help"]).output().unwrap();
     let help = String::from_utf8(output.stdout).unwrap();
     let at = help.find(&format!("[env: {env}"))?;
     let rest = &help[at..];

@@ -5,7 +5,7 @@
 //!
 //! Timeouts here are 1 s; the bounds on waits are generous, so a slow machine does not fail them.
 
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::Duration;
 
 use reqwest::StatusCode;
@@ -301,10 +301,10 @@ async fn with_few_file_descriptors_idle_sockets_do_not_starve_healthz() {
     // connections below it, close the silent ones after the header timeout, and keep accepting.
     let script = format!(
         "ulimit -n 256 && exec {} serve --listen 127.0.0.1:0 --database-url {}",
-        env!("CARGO_BIN_EXE_scruple"),
+        crate::support::SCRUPLE,
         sqlite(&dir)
     );
-    let mut child = Command::new("sh")
+    let mut child = crate::support::command("sh")
         .args(["-c", &script])
         .env("SCRUPLE_HEADER_TIMEOUT_MS", "1000")
         .env("RUST_LOG", "error")

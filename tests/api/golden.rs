@@ -147,7 +147,7 @@ fn replay(dir: &Path, group: usize, norms: &Value, entries: &[&Value]) -> BTreeM
         .collect();
     std::fs::write(&input, lines(&requests)).unwrap();
     let out = dir.join(format!("answers-{group}.jsonl"));
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_scruple"))
+    let status = crate::support::scruple()
         .arg("replay")
         .arg(&input)
         .arg("--norms")
