@@ -8,7 +8,8 @@
 //! a non-root numeric user in both the image and the pod; every ConfigMap/Secret reference resolves
 //! and every key is read; Secrets hold only placeholders; the kustomization lists every manifest but
 //! the PostgreSQL example; the image builds the locked binary, profile-guided, with a new enough
-//! toolchain, from a context that holds what the training reads.
+//! toolchain, from a context that holds what the training reads. And CI (`.ci/run`) tests with
+//! the command the README opens with.
 //!
 //! Nothing here builds an image or talks to a cluster: it reads the files and runs the binary.
 
@@ -919,4 +920,32 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
             volume.args
         );
     }
+}
+
+/// The `cargo test` command in `text`: its first line that starts with one, without a trailing
+/// comment.
+fn test_command(text: &str) -> Option<String> {
+    text.lines()
+        .map(|line| line.split('#').next().unwrap_or("").trim())
+        .find(|command| command.starts_with("cargo test"))
+        .map(str::to_owned)
+}
+
+/// The README's opening test command is what CI runs, so that a newcomer who runs it gets what
+/// CI checks (`--locked`: the tests run against the committed `Cargo.lock`, not a fresh resolve).
+#[test]
+fn ci_runs_the_test_command_the_readme_opens_with() {
+    let readme = read(&repo().join("README.md"));
+    let opening: String = readme
+        .split("```")
+        .nth(1)
+        .expect("README opens with a code block")
+        .to_owned();
+    let readme_command = test_command(&opening).expect("a cargo test command in the README's first block");
+    let ci_command = test_command(&read(&repo().join(".ci/run"))).expect("a cargo test command in .ci/run");
+    assert_eq!(ci_command, readme_command, "README.md and .ci/run");
+    assert!(
+        ci_command.split_whitespace().any(|word| word == "--locked"),
+        "{ci_command}"
+    );
 }
