@@ -233,6 +233,16 @@ pub fn serve_binary(database_url: &str, args: &[&str], envs: &[(&str, &str)], st
     Served { child, addr }
 }
 
+/// A server a failed assertion left running is killed, so no test leaves a process behind.
+impl Drop for Served {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
 impl Served {
     /// SIGTERM, then the exit status once it has drained.
     pub fn terminate(mut self) -> std::process::ExitStatus {

@@ -5,6 +5,7 @@ mod auth;
 mod backends;
 mod beyond;
 mod binary;
+mod coherence;
 mod connections;
 mod crash;
 mod errors;
