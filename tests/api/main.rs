@@ -16,6 +16,7 @@ mod hardening;
 mod helpers;
 mod integrity;
 mod limits;
+mod migrations;
 mod norms;
 mod observability;
 mod openapi;
