@@ -1,12 +1,12 @@
 //! Answers unchanged: every request of `tests/golden/corpus.jsonl` (made by
 //! `tests/golden/make_corpus.py`) is answered by the server, each on a fresh store after its
-//! setup, and the clarify requests marked `replay` by `scruple replay --out` with the setup's
-//! norms. The outputs must equal their golden files (`server.jsonl`, `replay.jsonl`) byte for
-//! byte, and a server on PostgreSQL must give `server.jsonl` too. An entry's `server` may set
-//! an admin token and a body limit. The golden files were made before the code was reshaped and
-//! committed on their own, so a diff of them is a change of behaviour.
-//! `SCRUPLE_BLESS=1 cargo test --test api golden` (exactly `1`) rewrites them, for a change of
-//! behaviour that is meant.
+//! setup; the clarify requests marked `replay` by `scruple replay --out` with the setup's norms;
+//! and those marked `grpc` over gRPC. The outputs must equal their golden files
+//! (`server.jsonl`, `replay.jsonl`, `grpc.jsonl`) byte for byte, and a server on PostgreSQL must
+//! give `server.jsonl` too. An entry's `server` may set an admin token and a body limit. The
+//! golden files were made before the code was reshaped and committed on their own, so a diff of
+//! them is a change of behaviour. `SCRUPLE_BLESS=1 cargo test --test api golden` (exactly `1`)
+//! rewrites them, for a change of behaviour that is meant.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -78,6 +78,57 @@ async fn answer(entry: &Value, database_url: Option<String>) -> Value {
     let (status, body) = send(&app, &entry["request"]).await;
     app.stop().await;
     json!({"id": entry["id"], "status": status, "body": body})
+}
+
+/// One entry's answer over gRPC, on a fresh store set up over REST: the status code, and the
+/// response message in full (its `Debug` form: every field, in the proto's order; no response
+/// message has a map, so the text is stable) or the status's message and field.
+async fn answer_over_grpc(entry: &Value) -> Value {
+    use scruple::transport::grpc::pb::clarifier_client::ClarifierClient;
+    use scruple::transport::grpc::pb::norms_client::NormsClient;
+    let app = set_up(entry, None).await;
+    let channel = crate::grpc::channel(&app).await;
+    let request = &entry["request"];
+    let answer = match (request["method"].as_str(), request["path"].as_str()) {
+        (Some("POST"), Some("/v1/clarify")) => ClarifierClient::new(channel)
+            .clarify(crate::grpc::clarify_request(&request["body"]))
+            .await
+            .map(|r| format!("{:?}", r.into_inner())),
+        (Some("POST"), Some("/v1/norms")) => NormsClient::new(channel)
+            .create_norm(crate::grpc::norm_request(&request["body"]))
+            .await
+            .map(|r| format!("{:?}", r.into_inner())),
+        other => panic!("{}: no gRPC call for {other:?}", entry["id"]),
+    };
+    app.stop().await;
+    match answer {
+        Ok(message) => json!({"id": entry["id"], "code": "Ok", "message": message}),
+        Err(status) => json!({"id": entry["id"], "code": format!("{:?}", status.code()), "error": status.message(),
+                              "field": status.metadata().get("field").map(|f| f.to_str().unwrap())}),
+    }
+}
+
+/// The entries marked `grpc`, over gRPC: their answers must equal `grpc.jsonl`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn grpc_gives_the_golden_answers() {
+    let entries: Vec<Value> = corpus().into_iter().filter(|e| e["grpc"] == true).collect();
+    assert!(entries.len() >= 40, "{} entries over gRPC", entries.len());
+    let turns = Arc::new(tokio::sync::Semaphore::new(8));
+    let tasks: Vec<_> = entries
+        .into_iter()
+        .map(|entry| {
+            let turns = turns.clone();
+            tokio::spawn(async move {
+                let _turn = turns.acquire_owned().await.unwrap();
+                answer_over_grpc(&entry).await
+            })
+        })
+        .collect();
+    let mut answers = Vec::with_capacity(tasks.len());
+    for task in tasks {
+        answers.push(task.await.expect("an entry is answered over gRPC"));
+    }
+    against_golden("grpc.jsonl", &answers);
 }
 
 fn lines(values: &[Value]) -> String {
