@@ -5,7 +5,7 @@ mod support;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 use scruple::app::{Application, Config};
 use serde_json::{Value, json};
@@ -61,7 +61,7 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 }
 
 fn scruple(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_scruple"))
+    support::scruple()
         .args(args)
         .stdin(Stdio::null())
         .output()
@@ -557,7 +557,7 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
     let norms = paper_norms(dir.path(), &demo);
     let run = |name: &str, one_core: bool| {
         let out = dir.path().join(name);
-        let mut command = Command::new(env!("CARGO_BIN_EXE_scruple"));
+        let mut command = support::scruple();
         command
             .args(["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)])
             .stdin(Stdio::null());

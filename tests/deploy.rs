@@ -8,7 +8,8 @@
 //! a non-root numeric user in both the image and the pod; every ConfigMap/Secret reference resolves
 //! and every key is read; Secrets hold only placeholders; the kustomization lists every manifest but
 //! the PostgreSQL example; the image builds the locked binary, profile-guided, with a new enough
-//! toolchain, from a context that holds what the training reads.
+//! toolchain, from a context that holds what the training reads. And CI (`.ci/run`) tests with
+//! the command the README opens with.
 //!
 //! Nothing here builds an image or talks to a cluster: it reads the files and runs the binary.
 
@@ -17,15 +18,13 @@ mod support;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 
 use serde::Deserialize;
 use serde_yaml_ng::Value;
 
 /// The manifest that is an example to apply by hand, not part of the kustomization.
 const POSTGRES_EXAMPLE: &str = "postgres-example.yaml";
-
-const BINARY: &str = env!("CARGO_BIN_EXE_scruple");
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -313,7 +312,7 @@ fn numeric_uid(user: &Instruction) -> u64 {
 
 /// The variables `scruple serve --help` lists as `[env: NAME...]`.
 fn known_env() -> BTreeSet<String> {
-    let output = Command::new(BINARY)
+    let output = support::scruple()
         .args(["serve", "--help"])
         .output()
         .expect("scruple serve --help runs");
@@ -366,13 +365,10 @@ impl Drop for Server {
 /// (the flags override the environment's listen address and store); its log goes to `dir/stderr`.
 fn serve(env: &BTreeMap<String, String>, dir: &Path) -> Server {
     let log = dir.join("stderr");
-    let mut command = Command::new(BINARY);
+    let mut command = support::scruple();
     command
         .args(["serve", "--listen", "127.0.0.1:0", "--database-url"])
         .arg(format!("sqlite://{}", dir.join("deploy.db").display()));
-    for (name, _) in std::env::vars().filter(|(name, _)| name.starts_with("SCRUPLE_")) {
-        command.env_remove(name);
-    }
     let mut child = command
         .envs(env)
         .stdout(Stdio::piped())
@@ -671,7 +667,7 @@ fn every_config_map_and_secret_key_the_pods_read_exists_and_every_key_is_read() 
 /// The default of a `scruple serve` flag, as `--help` prints it (`[default: N]` after its
 /// `[env: NAME=...]`).
 fn default_of(env: &str) -> Option<String> {
-    let output = Command::new(BINARY).args(["serve", "--help"]).output().unwrap();
+    let output = support::scruple().args(["serve", "--help"]).output().unwrap();
     let help = String::from_utf8(output.stdout).unwrap();
     let at = help.find(&format!("[env: {env}"))?;
     let rest = &help[at..];
@@ -924,4 +920,32 @@ fn the_image_builds_the_locked_binary_with_a_new_enough_toolchain_and_runs_serve
             volume.args
         );
     }
+}
+
+/// The `cargo test` command in `text`: its first line that starts with one, without a trailing
+/// comment.
+fn test_command(text: &str) -> Option<String> {
+    text.lines()
+        .map(|line| line.split('#').next().unwrap_or("").trim())
+        .find(|command| command.starts_with("cargo test"))
+        .map(str::to_owned)
+}
+
+/// The README's opening test command is what CI runs, so that a newcomer who runs it gets what
+/// CI checks (`--locked`: the tests run against the committed `Cargo.lock`, not a fresh resolve).
+#[test]
+fn ci_runs_the_test_command_the_readme_opens_with() {
+    let readme = read(&repo().join("README.md"));
+    let opening: String = readme
+        .split("```")
+        .nth(1)
+        .expect("README opens with a code block")
+        .to_owned();
+    let readme_command = test_command(&opening).expect("a cargo test command in the README's first block");
+    let ci_command = test_command(&read(&repo().join(".ci/run"))).expect("a cargo test command in .ci/run");
+    assert_eq!(ci_command, readme_command, "README.md and .ci/run");
+    assert!(
+        ci_command.split_whitespace().any(|word| word == "--locked"),
+        "{ci_command}"
+    );
 }

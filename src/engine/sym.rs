@@ -415,6 +415,50 @@ impl From<String> for Sym {
 mod tests {
     use super::*;
 
+    /// Set in a child process started to spend the process-wide budgets.
+    const SPEND_HERE: &str = "SCRUPLE_SYM_SPEND_BUDGETS_HERE";
+
+    /// Whether the calling test, `test` (a test of this module that spends a process-wide budget
+    /// of lasting names), may spend it in this process: only in a child process started for it.
+    /// Anywhere else it runs `test` alone in such a child of this test binary, asserts that it
+    /// passed, and answers false; so this process's budgets stay whole, and no test that makes a
+    /// name last depends on running before the ones that spend them.
+    fn spend_here(test: &str) -> bool {
+        if std::env::var_os(SPEND_HERE).is_some() {
+            return true;
+        }
+        let module = module_path!().split_once("::").map_or(module_path!(), |(_, m)| m);
+        let path = format!("{module}::{test}");
+        let output = std::process::Command::new(std::env::current_exe().expect("the test binary"))
+            .args([path.as_str(), "--exact", "--test-threads=1"])
+            .env(SPEND_HERE, "1")
+            .stdin(std::process::Stdio::null())
+            .output()
+            .expect("the test binary runs again");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(
+            output.status.success() && stdout.contains("test result: ok. 1 passed"),
+            "{path} in a child process: {}\n{stdout}\n{}",
+            output.status,
+            String::from_utf8_lossy(&output.stderr)
+        );
+        false
+    }
+
+    /// The tests that spend the budgets, run here first, leave them whole: a name made lasting
+    /// after them, or interned often, still lasts.
+    #[test]
+    fn the_tests_that_spend_the_budgets_leave_this_process_budgets_whole() {
+        a_name_interned_often_lasts_unless_it_is_long_or_the_budget_is_spent();
+        past_the_bound_a_name_made_lasting_is_counted_and_swept_as_any_other();
+        assert!(LASTING.load(Ordering::Relaxed) < MAX_LASTING);
+        assert!(OFTEN_LASTING.load(Ordering::Relaxed) < MAX_OFTEN);
+        let verb = Sym::new("made-lasting-after-the-budget-tests");
+        verb.make_lasting();
+        assert!(verb.name().lasting.load(Ordering::Relaxed));
+        assert!(interned_often("interned-often-after-the-budget-tests"));
+    }
+
     #[test]
     fn one_text_is_one_symbol_and_order_is_by_text() {
         let (a, b) = (Sym::new("vase"), Sym::from(String::from("vase")));
@@ -562,6 +606,9 @@ mod tests {
 
     #[test]
     fn a_name_interned_often_lasts_unless_it_is_long_or_the_budget_is_spent() {
+        if !spend_here("a_name_interned_often_lasts_unless_it_is_long_or_the_budget_is_spent") {
+            return;
+        }
         let common = Sym::new("interned-often");
         for _ in 2..OFTEN {
             drop(Sym::new("interned-often"));
@@ -580,7 +627,7 @@ mod tests {
         assert!(!interned_often(&long), "a long name lasts");
         assert!(interned_often(&"s".repeat(OFTEN_AT_MOST)));
 
-        // Spend what is left of the budget (other tests share it), then one more.
+        // Spend the budget (in a process of its own: see `spend_here`), then one more.
         let mut filler = 0;
         while OFTEN_LASTING.load(Ordering::Relaxed) < MAX_OFTEN {
             interned_often(&format!("often-filler-{filler}"));
@@ -605,7 +652,10 @@ mod tests {
 
     #[test]
     fn past_the_bound_a_name_made_lasting_is_counted_and_swept_as_any_other() {
-        // Fill whatever is left of the process's lasting budget (other tests share it).
+        if !spend_here("past_the_bound_a_name_made_lasting_is_counted_and_swept_as_any_other") {
+            return;
+        }
+        // Fill the lasting budget (in a process of its own: see `spend_here`), then one more.
         let mut filler = 0;
         while LASTING.load(Ordering::Relaxed) < MAX_LASTING {
             Sym::new(&format!("lasting-filler-{filler}")).make_lasting();

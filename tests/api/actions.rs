@@ -53,6 +53,62 @@ async fn a_fresh_store_holds_the_contracts_default_library() {
     assert_problem(app.get("/v1/actions/juggle").await, StatusCode::NOT_FOUND, None).await;
 }
 
+/// A fresh PostgreSQL store is seeded with the same verbs as a fresh SQLite one (their own
+/// migrations seed and amend them): the same answer byte for byte, and the same stored
+/// definitions, member for member.
+#[tokio::test]
+async fn a_fresh_postgresql_store_holds_the_same_default_library_as_sqlite() {
+    let sqlite = spawn_app().await;
+    let database = crate::backends::PgDatabase::create().await;
+    let url = database.url.clone();
+    let postgres = crate::helpers::spawn_tweaked(move |c| c.database_url = url).await;
+    let answers = [
+        sqlite.get("/v1/actions").await.text().await.unwrap(),
+        postgres.get("/v1/actions").await.text().await.unwrap(),
+    ];
+    assert_eq!(answers[0], answers[1], "GET /v1/actions, SQLite then PostgreSQL");
+    let listed: Vec<Value> = serde_json::from_str(&answers[0]).unwrap();
+    assert_eq!(listed.len(), Library::default_library().verbs().len());
+
+    // The stored rows, parsed: PostgreSQL's JSON functions reorder and space the text.
+    let stored_sqlite: Vec<(String, String)> = {
+        use sqlx::{ConnectOptions, Connection};
+        let mut connection = sqlx::sqlite::SqliteConnectOptions::new()
+            .filename(&sqlite.db_path)
+            .connect()
+            .await
+            .unwrap();
+        let rows = sqlx::query_as("SELECT name, definition FROM actions")
+            .fetch_all(&mut connection)
+            .await
+            .unwrap();
+        connection.close().await.unwrap();
+        rows
+    };
+    let stored_postgres: Vec<(String, String)> = {
+        use sqlx::Connection;
+        let mut connection = sqlx::PgConnection::connect(&database.url).await.unwrap();
+        let rows = sqlx::query_as("SELECT name, definition FROM actions")
+            .fetch_all(&mut connection)
+            .await
+            .unwrap();
+        connection.close().await.unwrap();
+        rows
+    };
+    // Sorted here: the two databases' collations may order names differently.
+    let parsed = |rows: Vec<(String, String)>| -> Vec<(String, Value)> {
+        let mut parsed: Vec<(String, Value)> = rows
+            .into_iter()
+            .map(|(name, text)| (name, serde_json::from_str(&text).unwrap()))
+            .collect();
+        parsed.sort_by(|a, b| a.0.cmp(&b.0));
+        parsed
+    };
+    assert_eq!(parsed(stored_sqlite), parsed(stored_postgres));
+    sqlite.stop().await;
+    postgres.stop().await;
+}
+
 #[tokio::test]
 async fn a_word_names_one_verb_only_and_a_clash_writes_nothing() {
     let app = spawn_app().await;

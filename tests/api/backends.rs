@@ -54,6 +54,17 @@ impl PgDatabase {
     }
 }
 
+impl PgDatabase {
+    /// Runs `sql` straight on the database, as a hand edit or an older build would have.
+    pub async fn execute(&self, sql: &str) -> Result<(), sqlx::Error> {
+        let mut connection = sqlx::PgConnection::connect(&self.url).await?;
+        sqlx::raw_sql(sqlx::AssertSqlSafe(sql.to_owned()))
+            .execute(&mut connection)
+            .await?;
+        connection.close().await
+    }
+}
+
 impl Drop for PgDatabase {
     fn drop(&mut self) {
         let admin = postgres_admin_url();

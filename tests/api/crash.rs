@@ -4,7 +4,7 @@
 //! how many kills.
 
 use std::path::Path;
-use std::process::{Child, Stdio};
+use std::process::Stdio;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -13,11 +13,10 @@ use serde_json::{Value, json};
 use sqlx::sqlite::SqliteConnectOptions;
 use sqlx::{ConnectOptions, Connection};
 
-use crate::helpers::serve_binary;
+use crate::helpers::{Served, serve_binary};
 
-fn start(db: &Path) -> (Child, String) {
-    let served = serve_binary(&format!("sqlite://{}", db.display()), &[], &[], Stdio::null());
-    (served.child, served.addr)
+fn start(db: &Path) -> Served {
+    serve_binary(&format!("sqlite://{}", db.display()), &[], &[], Stdio::null())
 }
 
 /// xorshift: kill moments that differ per iteration yet repeat from run to run.
@@ -41,7 +40,8 @@ async fn every_acknowledged_write_survives_sigkill_at_random_moments() {
     let mut random = 0x9e37_79b9_7f4a_7c15_u64;
     let mut killed_mid_stream = 0;
     for iteration in 0..iterations {
-        let (mut child, addr) = start(&db);
+        let mut served = start(&db);
+        let addr = served.addr.clone();
         let so_far = acknowledged.lock().unwrap().clone();
         check_all_present(&client, &addr, &so_far).await;
 
@@ -70,19 +70,19 @@ async fn every_acknowledged_write_survives_sigkill_at_random_moments() {
             }));
         }
         tokio::time::sleep(Duration::from_millis(20 + next(&mut random) % 180)).await;
-        child.kill().expect("SIGKILL");
-        child.wait().unwrap();
+        served.child.kill().expect("SIGKILL");
+        served.child.wait().unwrap();
         for writer in writers {
             if writer.await.unwrap() > 0 {
                 killed_mid_stream += 1;
             }
         }
     }
-    let (mut child, addr) = start(&db);
+    let mut served = start(&db);
     let acknowledged: Vec<(i64, String)> = acknowledged.lock().unwrap().clone();
-    check_all_present(&client, &addr, &acknowledged).await;
-    child.kill().unwrap();
-    child.wait().unwrap();
+    check_all_present(&client, &served.addr, &acknowledged).await;
+    served.child.kill().unwrap();
+    served.child.wait().unwrap();
     assert!(killed_mid_stream > 0, "the writers were writing when the kills came");
     assert!(
         acknowledged.len() > iterations,

@@ -1,6 +1,7 @@
 //! When the norms cannot be read (a table dropped, a row corrupt, the file deleted, replaced or not
 //! a database; a PostgreSQL database gone), clarify answers 503 and never complies or assumes;
-//! writes refused on a lock leave nothing behind.
+//! writes refused on a lock leave nothing behind. A corrupt row and a lock held by another
+//! session are tried on PostgreSQL as on SQLite.
 
 use reqwest::StatusCode;
 use serde_json::json;
@@ -256,4 +257,72 @@ async fn a_postgresql_database_gone_fails_closed() {
     .await;
     assert!(problem.get("decision").is_none());
     assert_problem(app.get("/healthz").await, StatusCode::SERVICE_UNAVAILABLE, None).await;
+}
+
+/// A server on a fresh PostgreSQL database, and the database.
+async fn on_postgresql() -> (crate::helpers::TestApp, crate::backends::PgDatabase) {
+    let database = crate::backends::PgDatabase::create().await;
+    let url = database.url.clone();
+    let app = crate::helpers::spawn_tweaked(move |c| c.database_url = url).await;
+    (app, database)
+}
+
+/// PostgreSQL's twin of the corrupt and refused rows above: whatever is wrong with a stored
+/// norm, decisions stop (503, no decision) rather than go on without it.
+#[tokio::test]
+async fn a_corrupt_norm_row_on_postgresql_fails_closed_rather_than_being_skipped() {
+    let destroy = json!({"directive": {"action": "destroy", "arguments": [{"type": "mug"}]}, "scene": crate::helpers::lab_scene()});
+    for (tamper_sql, says) in [
+        ("UPDATE norms SET term = 'destroy('", "norm 1"),
+        ("UPDATE norms SET term = 'X'", "/action"),
+        ("UPDATE norms SET roles_json = '[\"not a role!\"]'", "/roles/0"),
+    ] {
+        let (app, database) = on_postgresql().await;
+        app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+            .await;
+        assert_eq!(app.clarify(&destroy).await["decision"], "refuse");
+        database
+            .execute(&format!("{tamper_sql}; UPDATE norm_set SET version = version + 1"))
+            .await
+            .unwrap();
+        crate::helpers::after_the_lease().await;
+        let problem = assert_problem(
+            app.post("/v1/clarify", &destroy).await,
+            StatusCode::SERVICE_UNAVAILABLE,
+            None,
+        )
+        .await;
+        assert!(problem.get("decision").is_none(), "{problem}");
+        let detail = problem["detail"].as_str().unwrap_or_default();
+        assert!(detail.contains(says), "{tamper_sql}: {detail}");
+        app.stop().await;
+    }
+}
+
+/// PostgreSQL's twin of the SQLite write lock: another session holding the norm set's version
+/// row makes a write wait out the lock timeout and answer 503 with Retry-After, writing
+/// nothing, while decisions go on under the committed norms (readers take no row lock).
+#[tokio::test]
+async fn a_row_lock_held_by_another_postgresql_session_refuses_writes_and_keeps_deciding() {
+    let (app, database) = on_postgresql().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let mut holder = sqlx::PgConnection::connect(&database.url).await.unwrap();
+    sqlx::raw_sql("BEGIN; SELECT version FROM norm_set WHERE id = 1 FOR UPDATE")
+        .execute(&mut holder)
+        .await
+        .unwrap();
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+    let refused = app.post("/v1/norms", &norm).await;
+    assert_eq!(
+        refused.headers().get("retry-after").map(|v| v.to_str().unwrap()),
+        Some("1")
+    );
+    assert_problem(refused, StatusCode::SERVICE_UNAVAILABLE, None).await;
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+    sqlx::raw_sql("ROLLBACK").execute(&mut holder).await.unwrap();
+    holder.close().await.unwrap();
+    assert_eq!(app.norms().await.len(), 1, "the refused write left nothing behind");
+    app.stop().await;
 }

@@ -406,7 +406,9 @@ fn many_cups(n: usize) -> Value {
 /// steps (checked when it is stored), and both calls stop at their deadline with `limits`.
 #[tokio::test]
 async fn expansion_is_bounded_when_stored_and_stops_at_the_deadline() {
-    let app = spawn_app().await;
+    // The service's own default deadline is longer than the client waits (20 s), so only the
+    // deadlines the requests carry can answer them in time.
+    let app = crate::helpers::spawn_tweaked(|c| c.limits.default_deadline_ms = 30_000).await;
     store_costly_library(&app).await;
     let method = json!({"steps": ["a2(X)", "a2(X)", "a2(X)", "a2(X)"]});
     let a3 = json!({"parameters": ["X"], "methods": vec![method; 8]});

@@ -206,10 +206,11 @@ pub struct Served {
 }
 
 /// Starts `scruple serve --listen 127.0.0.1:0 --database-url URL ARGS...` with `envs` (and
-/// `RUST_LOG=error` unless given), its stderr to `stderr`; returns once it prints its address.
+/// `RUST_LOG=error` unless given) and none of the caller's other `SCRUPLE_*` variables, its
+/// stderr to `stderr`; returns once it prints its address.
 pub fn serve_binary(database_url: &str, args: &[&str], envs: &[(&str, &str)], stderr: std::process::Stdio) -> Served {
     use std::io::{BufRead, BufReader};
-    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_scruple"));
+    let mut command = crate::support::scruple();
     command
         .args(["serve", "--listen", "127.0.0.1:0", "--database-url", database_url])
         .args(args)
@@ -232,6 +233,16 @@ pub fn serve_binary(database_url: &str, args: &[&str], envs: &[(&str, &str)], st
     Served { child, addr }
 }
 
+/// A server a failed assertion left running is killed, so no test leaves a process behind.
+impl Drop for Served {
+    fn drop(&mut self) {
+        if matches!(self.child.try_wait(), Ok(None)) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
 impl Served {
     /// SIGTERM, then the exit status once it has drained.
     pub fn terminate(mut self) -> std::process::ExitStatus {
@@ -241,7 +252,7 @@ impl Served {
 
     /// Sends SIGTERM and returns at once.
     pub fn sigterm(&self) {
-        let sent = std::process::Command::new("kill")
+        let sent = crate::support::command("kill")
             .args(["-TERM", &self.child.id().to_string()])
             .status()
             .unwrap();
@@ -297,4 +308,25 @@ impl Drop for KeepAsking {
     fn drop(&mut self) {
         self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
+}
+
+/// Runs the test `path` (its path below the crate, `module::name`) alone in a fresh process of
+/// this test binary, with `envs` added to its environment, and asserts that it ran and passed.
+/// For a test that must change what a whole process sees (its environment), which threads of
+/// this one would otherwise share.
+pub fn pass_alone_in_a_child(path: &str, envs: &[(&str, &str)]) {
+    let exe = std::env::current_exe().expect("the test binary's path");
+    let output = crate::support::command(exe)
+        .args([path, "--exact", "--nocapture", "--test-threads=1"])
+        .envs(envs.iter().copied())
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("the test binary runs again");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        output.status.success() && stdout.contains("test result: ok. 1 passed"),
+        "{path} in a child process: {}\n{stdout}\n{stderr}",
+        output.status
+    );
 }

@@ -1,6 +1,7 @@
 //! Two `scruple serve` processes on loopback, one PostgreSQL database: a norm changed through
 //! replica A is enforced by replica B on its very next request, also after B restarts, and the
-//! other way round.
+//! other way round; and two replicas started at the same moment on a fresh database both come
+//! up on one schema.
 
 use std::process::Stdio;
 
@@ -121,4 +122,68 @@ async fn every_change_acknowledged_by_one_replica_is_seen_at_once_by_a_busy_othe
     assert!(busy.stop().await > 40, "B was kept busy");
     a.stop();
     b.stop();
+}
+
+/// Starts two replicas on `database_url` at the same moment (each from its own thread, released
+/// together), so that both find the database without a schema.
+fn start_two_at_once(database_url: &str) -> [Replica; 2] {
+    let together = std::sync::Barrier::new(2);
+    std::thread::scope(|scope| {
+        let start = || {
+            together.wait();
+            Replica::start(database_url)
+        };
+        let (a, b) = (scope.spawn(start), scope.spawn(start));
+        [a.join().expect("replica A starts"), b.join().expect("replica B starts")]
+    })
+}
+
+/// Two replicas of a new deployment start together on one fresh database: both come up (the
+/// migrations run once, under their advisory lock, while the other waits), each migration is
+/// recorded once, and both serve one seeded library and one norm set.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_replicas_started_at_once_on_a_fresh_database_both_come_up_on_one_schema() {
+    let migrations = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/migrations/postgres"))
+        .unwrap()
+        .count();
+    let client = crate::helpers::http_client();
+    for attempt in 0..2 {
+        let database = PgDatabase::create().await;
+        let replicas = start_two_at_once(&database.url);
+        let mut libraries = Vec::new();
+        for replica in &replicas {
+            let health = client.get(format!("{}/healthz", replica.base)).send().await.unwrap();
+            assert_eq!(health.status(), StatusCode::OK, "attempt {attempt}");
+            let library = client.get(format!("{}/v1/actions", replica.base)).send().await.unwrap();
+            libraries.push(library.text().await.unwrap());
+        }
+        assert_eq!(libraries[0], libraries[1], "attempt {attempt}");
+        let seeded: Vec<Value> = serde_json::from_str(&libraries[0]).unwrap();
+        assert_eq!(seeded.len(), scruple::engine::Library::default_library().verbs().len());
+        let mut connection = <sqlx::PgConnection as sqlx::Connection>::connect(&database.url)
+            .await
+            .unwrap();
+        let (recorded, all_applied): (i64, bool) =
+            sqlx::query_as("SELECT count(*), bool_and(success) FROM _sqlx_migrations")
+                .fetch_one(&mut connection)
+                .await
+                .unwrap();
+        assert_eq!(
+            (recorded as usize, all_applied),
+            (migrations, true),
+            "attempt {attempt}"
+        );
+        // One norm set: a norm through one is enforced by the other.
+        let [a, b] = replicas;
+        let created = client
+            .post(format!("{}/v1/norms", a.base))
+            .json(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(created.status(), StatusCode::CREATED);
+        assert_eq!(b.decide(&client).await["decision"], "assume", "attempt {attempt}");
+        a.stop();
+        b.stop();
+    }
 }

@@ -240,7 +240,7 @@ fn the_binary_serves_tls_from_its_flags_and_refuses_bad_files() {
     assert!(served.terminate().success());
 
     let start = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_scruple"))
+        crate::support::scruple()
             .args(["serve", "--listen", "127.0.0.1:0", "--database-url", &db])
             .args(args)
             .env("RUST_LOG", "off")

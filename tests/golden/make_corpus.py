@@ -4,10 +4,12 @@ reshaped (tests/api/golden.rs answers each on a fresh store and compares with th
 
 The corpus: the paper's cases under every strategy, style and single-permissible option; the
 README's examples; generated scenes that reach every decision kind and every reason kind the
-service can give deterministically; and requests that end in every error it answers. Each entry
-is {"id", "setup": [REQUEST...], "request": REQUEST, "replay": bool}, a REQUEST being {"method",
-"path", "body"} (JSON) or {"method", "path", "raw", "headers"}. Entries marked replay are also
-decided by `scruple replay --out` with the setup's norms as its --norms file.
+service can give deterministically; directives and answers in words; soft norms; and requests
+that end in every error it answers. Each entry is {"id", "setup": [REQUEST...], "request":
+REQUEST, "replay": bool}, a REQUEST being {"method", "path", "body"} (JSON) or {"method", "path",
+"raw", "headers"}. Entries marked replay are also decided by `scruple replay --out` with the
+setup's norms as its --norms file; entries marked grpc (a clarify or a norm's creation) are also
+sent over gRPC, after the same setup over REST, and their answers kept in grpc.jsonl.
 Run from the checkout: python3 tests/golden/make_corpus.py [path/to/paper-demo.json]
 """
 import copy
@@ -29,15 +31,17 @@ def norms_setup(norms):
     return [post("/v1/norms", n) for n in norms]
 
 
-def add(id, request, setup=(), replay=False, server=None):
+def add(id, request, setup=(), replay=False, server=None, grpc=False):
     entry = {"id": id, "setup": list(setup), "request": request, "replay": replay}
     if server:
         entry["server"] = server
+    if grpc:
+        entry["grpc"] = True
     entries.append(entry)
 
 
-def clarify(id, body, norms=(), replay=True, setup=()):
-    add(id, post("/v1/clarify", body), list(setup) + norms_setup(norms), replay and not setup)
+def clarify(id, body, norms=(), replay=True, setup=(), grpc=False):
+    add(id, post("/v1/clarify", body), list(setup) + norms_setup(norms), replay and not setup, grpc=grpc)
 
 
 # The paper's cases, under every option that changes words or decisions.
@@ -50,7 +54,8 @@ for i, case in enumerate(demo["cases"]):
             for single in ["assume", "confirm"]:
                 body = copy.deepcopy(base)
                 body["options"] = dict(body.get("options", {}), strategy=strategy, style=style, single_permissible=single)
-                clarify(f"paper-{i}-{strategy}-{style}-{single}", body, demo["norms"])
+                clarify(f"paper-{i}-{strategy}-{style}-{single}", body, demo["norms"],
+                        grpc=strategy == "moral" and single == "assume")
     clarify(f"paper-{i}-no-norms", base)
 
 # The README's examples.
@@ -148,9 +153,77 @@ for style in ["diarc", "natural"]:
                                                      "context": "tidy", "options": {"style": style}}), norms_setup(hard_norms))
     add(f"check-okay-{style}", post("/v1/check", {"scene": kitchen, "steps": ["pointTo(cup3)"], "options": {"style": style}}))
 
+# Directives in words: the words a human says on the paper's lab, read as the structured
+# directive they convey (or not understood), under the paper's norms. The words path is still
+# growing, so several of these answers will change on purpose: re-bless in a commit that says why.
+words = [
+    ("simple-command", "Get the vase.", {}),
+    ("simple-command-plastic", "Get the plastic vase.", {}),
+    ("indirect-request", "Can you get the mug?", {}),
+    ("indirect-polite", "Could you please destroy the red notebook?", {}),
+    ("two-arguments", "Robot, would you mind putting the mug onto the green notebook now?", {}),
+    ("vocative-first", "Pepper, get the vase.", {}),
+    ("vocative-last", "Get the vase, Pepper.", {}),
+    ("pronoun-focus", "Can you get it?", {"focus": ["object4", "object3"]}),
+    ("pronoun-no-focus", "Can you get it?", {}),
+    ("unknown-word", "Get the wet mug.", {}),
+    ("no-such-object", "Get the spoon.", {}),
+    ("question", "Is the vase fragile?", {}),
+    ("negated", "Don't get the vase.", {}),
+    ("word-salad", "Vase the notebook blue.", {}),
+]
+for name, text, extra in words:
+    for style in ["diarc", "natural"]:
+        body = dict({"directive": {"text": text}, "scene": lab, "options": {"style": style}}, **extra)
+        clarify(f"words-{name}-{style}", body, demo["norms"], grpc=style == "diarc")
+# Answers in words to the question the notebooks raise.
+notebooks = {"directive": {"text": "Get the notebook."}, "scene": lab}
+for name, answer in [("red-one", "the red one"), ("second-one", "the second one"), ("by-id", "object2"),
+                     ("new-directive", "Get the vase."), ("never-mind", "never mind")]:
+    clarify(f"words-answer-{name}", dict(notebooks, answer={"text": answer}), demo["norms"], grpc=name == "red-one")
+clarify("words-answer-yes-after-confirm", {"directive": {"text": "Get the vase."}, "scene": lab,
+                                           "options": {"single_permissible": "confirm"}, "answer": {"text": "yes"}},
+        demo["norms"])
+add("error-words-too-long", post("/v1/clarify", {"directive": {"text": "Get the vase " + "now " * 300}, "scene": lab}),
+    grpc=True)
+
+# Soft norms: "should" and "should not" rank the acceptable readings and never rescue a forbidden one.
+def tray(dirty, clean):
+    objects = [thing(f"mug{n + 1}", "mug", 0.5, 0.1 + 0.1 * n, properties=["clean"], attributes={"color": color})
+               for n, color in enumerate(["blue", "red"][:clean])]
+    if dirty:
+        objects.append(thing("mug9", "mug", 0.5, -0.1, properties=["dirty"], attributes={"color": "green"}))
+    return {"agent": {"id": "self", "position": [0, 0, 0.75], "reach": 0.9}, "objects": objects}
+
+
+serving = {"kind": "discouraged_action", "action": "get(X)", "when": ["dirty(X)"], "context": "serving",
+           "severity": 2, "note": "one serves with clean things"}
+preferred = {"kind": "preferred_state", "state": "holding(self,X)", "when": ["blue(X)"], "severity": 1}
+preferred_blue = dict(preferred, when=["color(X,blue)"])
+forbidden_red = {"kind": "forbidden_action", "action": "get(X)", "when": ["color(X,red)"]}
+for style in ["diarc", "natural"]:
+    for name, scene, norms, extra in [
+        ("dispreferred-dirty", tray(True, 1), [serving], {}),
+        ("ask-among-clean", tray(True, 2), [serving], {}),
+        ("only-dirty", tray(True, 0), [serving], {}),
+        ("other-context", tray(True, 1), [serving], {"context": "default"}),
+        ("ignored", tray(True, 1), [serving], {"options": {"soft_norms": "ignore"}}),
+        ("reflexive", tray(True, 1), [serving], {"options": {"strategy": "reflexive"}}),
+        ("preferred-blue", tray(False, 2), [preferred_blue], {"context": "default"}),
+        ("never-rescues-forbidden", tray(False, 2), [forbidden_red, dict(preferred_blue, when=["color(X,red)"], severity=5)],
+         {"context": "default"}),
+        ("answer-choice", tray(True, 2), [serving], {"answer": {"choice": 1}}),
+    ]:
+        body = dict({"directive": {"text": "Hand me the mug."}, "scene": scene, "context": "serving"}, **extra)
+        body["options"] = dict(body.get("options", {}), style=style)
+        clarify(f"soft-{name}-{style}", body, norms, grpc=style == "diarc")
+add("soft-norm-create", post("/v1/norms", serving), grpc=True)
+add("soft-norm-list", {"method": "GET", "path": "/v1/norms"}, norms_setup([serving, preferred]))
+
 # Norms and verbs: what writes answer.
 add("norm-create", post("/v1/norms", {"kind": "forbidden_state", "state": "holding(self, X:object)", "when": ["fragile(X)"],
-                                      "context": "lab", "severity": 4, "note": "n", "roles": ["child"], "exempt_roles": ["owner"]}))
+                                      "context": "lab", "severity": 4, "note": "n", "roles": ["child"], "exempt_roles": ["owner"]}),
+    grpc=True)
 add("norm-list", {"method": "GET", "path": "/v1/norms"}, norms_setup(hard_norms))
 add("norm-get", {"method": "GET", "path": "/v1/norms/2"}, norms_setup(hard_norms))
 add("norm-delete", {"method": "DELETE", "path": "/v1/norms/1"}, norms_setup(hard_norms))
@@ -207,7 +280,7 @@ bad_clarify = [
     ("wrong-type", {"directive": {"action": "get", "arguments": "vase"}, "scene": lab}),
 ]
 for name, body in bad_clarify:
-    add(f"error-clarify-{name}", post("/v1/clarify", body))
+    add(f"error-clarify-{name}", post("/v1/clarify", body), grpc=name in ["id-not-in-scene", "bad-verb", "bad-strategy"])
 bad_norms = [
     ("no-kind", {"action": "destroy"}),
     ("unknown-kind", {"kind": "forbidden_thought", "action": "destroy"}),
@@ -222,7 +295,7 @@ bad_norms = [
     ("unknown-member", {"kind": "forbidden_action", "action": "destroy", "whenever": []}),
 ]
 for name, body in bad_norms:
-    add(f"error-norm-{name}", post("/v1/norms", body))
+    add(f"error-norm-{name}", post("/v1/norms", body), grpc=name in ["unknown-kind", "bad-severity", "bad-when"])
 add("error-import-duplicate-id", {"method": "PUT", "path": "/v1/norm-set", "body": {"norms": [
     {"id": 2, "kind": "forbidden_action", "action": "a"}, {"id": 2, "kind": "forbidden_action", "action": "b"}]}})
 add("error-import-no-norms", {"method": "PUT", "path": "/v1/norm-set", "body": {}})
