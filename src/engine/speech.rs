@@ -333,18 +333,19 @@ fn said_of(reason: &Reason, style: Style, describer: &mut Describer<'_>) -> Opti
     Some(said)
 }
 
-/// Whether a one-place fact is a word of its object's description: `fragile(vase1)` of "the
-/// fragile vase".
+/// Whether a fact is a word of its object's description: `fragile(vase1)` of "the fragile vase",
+/// `color(mug1,red)` of "the red mug" (an attribute's value).
 fn described_by(fact: &Term, describer: &mut Describer<'_>) -> bool {
-    let (Some(functor), [object]) = (fact.name(), fact.args()) else {
-        return false;
+    let (word, object) = match (fact.name(), fact.args()) {
+        (Some(functor), [object]) => (spoken(functor), object),
+        (Some(functor), [object, value]) if object.name().is_some_and(|id| describer.has_attribute(id, functor)) => {
+            (describer.argument(value), object)
+        }
+        _ => return false,
     };
     let said = describer.argument(object);
-    let word = spoken(functor);
-    said.split(' ')
-        .collect::<Vec<_>>()
-        .windows(word.split(' ').count())
-        .any(|w| w.join(" ") == word)
+    let words: Vec<&str> = said.split(' ').collect();
+    words.windows(word.split(' ').count()).any(|w| w.join(" ") == word)
 }
 
 /// "a child", "an owner".

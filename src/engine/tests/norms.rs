@@ -100,7 +100,7 @@ fn conditional_and_contextual_norms() {
             expect(
                 Assume,
                 Some("did(self,get(object2))"),
-                "I am assuming you want me to get the green notebook. I cannot get the red notebook because holding the red notebook is forbidden when the color of the red notebook is red.",
+                "I am assuming you want me to get the green notebook. I cannot get the red notebook because holding the red notebook is forbidden.",
             ),
         ),
         case(
