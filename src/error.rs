@@ -184,7 +184,9 @@ impl From<EngineError> for Error {
     fn from(e: EngineError) -> Self {
         match e {
             EngineError::BadChoice { .. } => Error::invalid("/answer/choice", e.to_string()),
-            EngineError::NothingAsked { .. } => Error::invalid("/answer", e.to_string()),
+            EngineError::NothingAsked { .. } | EngineError::AskedWhich { .. } => {
+                Error::invalid("/answer", e.to_string())
+            }
         }
     }
 }

@@ -57,10 +57,24 @@ const DESCRIBE_LOOK: usize = 64;
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EngineError {
-    #[error("choice {choice} is not among the {offered} readings the question named")]
+    #[error("choice {choice} is not among the {} the question named", readings(*offered))]
     BadChoice { choice: usize, offered: usize },
     #[error("the original request asks nothing to choose from: it is decided `{decision}`")]
     NothingAsked { decision: &'static str },
+    /// The question asked which thing was meant, naming no readings: a choice by position has
+    /// nothing to count.
+    #[error(
+        "the question asked which {nouns} you mean and named no readings to choose from: answer with a description (\"the red one\") or an object's id"
+    )]
+    AskedWhich { nouns: String },
+}
+
+/// "1 reading", "3 readings".
+fn readings(n: usize) -> String {
+    match n {
+        1 => "1 reading".to_owned(),
+        n => format!("{n} readings"),
+    }
 }
 
 /// A score ordered by `f64::total_cmp`, so readings sort the same on every run.
@@ -492,6 +506,11 @@ fn decide_directive(
         let offered = match &plan {
             Plan::Ask { offered, .. } => offered.clone(),
             Plan::Confirm { chosen, .. } => vec![*chosen],
+            Plan::AskWhich { nouns } => {
+                return Err(EngineError::AskedWhich {
+                    nouns: nouns.join(" and which "),
+                });
+            }
             other => {
                 return Err(EngineError::NothingAsked {
                     decision: plan_kind(other).as_str(),

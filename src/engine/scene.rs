@@ -270,6 +270,12 @@ impl Object {
 /// Most names one object may have.
 pub const MAX_NAMES: usize = 8;
 
+/// A combining mark: the accent of a decomposed "café" (U+0301), the dot "İstanbul" keeps when
+/// lowered (U+0307). Part of the letter before it, as the words a human types keep it.
+fn combining_mark(c: char) -> bool {
+    matches!(c, '\u{0300}'..='\u{036f}' | '\u{1ab0}'..='\u{1aff}' | '\u{1dc0}'..='\u{1dff}' | '\u{20d0}'..='\u{20ff}' | '\u{fe20}'..='\u{fe2f}')
+}
+
 /// An object's names: 1 to 3 words of letters each, lower-cased, each once.
 fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
     if given.len() > MAX_NAMES {
@@ -279,7 +285,9 @@ fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
     for (i, text) in given.iter().enumerate() {
         let name = normalise_phrase(text);
         let words = name.split(' ').count();
-        if name.is_empty() || name.len() > 64 || words > 3 || !name.chars().all(|c| c.is_alphabetic() || c == ' ') {
+        let letters = name.chars().all(|c| c.is_alphabetic() || c == ' ' || combining_mark(c));
+        let starts_with_letter = name.chars().next().is_some_and(char::is_alphabetic);
+        if name.is_empty() || name.len() > 64 || words > 3 || !letters || !starts_with_letter {
             return Err(Invalid::new(
                 format!("/names/{i}"),
                 format!("`{text}` is not a name of 1 to 3 words of letters"),

@@ -771,3 +771,70 @@ fn a_sign_or_an_emoji_is_a_word_not_known_and_the_robot_says_it() {
         assert_eq!(run(&said(text), &lab(), &norms).kind, DecisionKind::Assume, "{text}");
     }
 }
+
+/// Issue 50, §3.12: "İstanbul" and a decomposed "café" were refused as names "not of letters";
+/// and "the first one" after "I do not know which cup you mean." answered a 422 about "1
+/// readings".
+#[test]
+fn names_with_combining_marks_are_letters_and_an_ordinal_after_which_is_explained() {
+    use crate::engine::input::RequestLimits;
+    use crate::engine::scene::{AgentInput, ObjectInput, SceneInput};
+    let input = |names: Vec<String>| SceneInput {
+        agent: AgentInput {
+            id: None,
+            position: [0.0, 0.0, 0.75],
+            reach: 0.9,
+            gripper_aperture: None,
+            payload: None,
+            gripper_size: None,
+        },
+        objects: vec![ObjectInput {
+            id: "m1".into(),
+            kind: "mug".into(),
+            properties: vec![],
+            attributes: Default::default(),
+            position: [0.5, 0.0, 0.8],
+            shape: None,
+            rotation: None,
+            mass: None,
+            names,
+        }],
+        facts: vec![],
+    };
+    let scene = Scene::from_input(
+        input(vec!["İstanbul".into(), "cafe\u{301}".into()]),
+        &RequestLimits::default(),
+    )
+    .expect("letters with their marks are a name");
+    assert_eq!(
+        read("Get the İstanbul.", &scene),
+        Ok(("get".into(), vec![ids(&["m1"])]))
+    );
+    assert_eq!(
+        read("Get the cafe\u{301}.", &scene),
+        Ok(("get".into(), vec![ids(&["m1"])]))
+    );
+    assert!(Scene::from_input(input(vec!["\u{301}cafe".into()]), &RequestLimits::default()).is_err());
+
+    use super::fixtures::{obj, scene as make};
+    let cups = make(
+        (0..6)
+            .map(|i| obj(&format!("c{i}"), "cup", &[], &[], [0.5, 0.1 * i as f64, 0.8], None))
+            .collect(),
+        &[],
+    );
+    let request = crate::engine::request::Request {
+        answer: Some(crate::engine::request::Answer::Words("the first one".into())),
+        ..said("Get the cup.")
+    };
+    let err = crate::engine::clarify::clarify(&request, &cups, &paper_norms(), &Library::default_library(), &|| false)
+        .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "the question asked which cup you mean and named no readings to choose from: answer with a description (\"the red one\") or an object's id"
+    );
+    assert_eq!(
+        crate::engine::clarify::EngineError::BadChoice { choice: 1, offered: 1 }.to_string(),
+        "choice 1 is not among the 1 reading the question named"
+    );
+}
