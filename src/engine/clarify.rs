@@ -706,9 +706,10 @@ fn render(
     } else {
         interpretations.iter_mut().for_each(|i| word(describer, i));
     }
+    let utterance = spoken(&plan, &mut interpretations, style, describer);
     Decision {
         kind: plan_kind(&plan),
-        utterance: speech::utterance(&plan, &interpretations, style, describer),
+        utterance,
         speech_act: speech::speech_act(&plan, &interpretations, speaker),
         goal,
         interpretations,
@@ -718,6 +719,57 @@ fn render(
         library_version: 0,
         parse: None,
     }
+}
+
+/// The utterance of `plan`. An object whose description needs its id among the scene's objects
+/// of its type ("the cup (cup1)") is spoken without it when it is the only object of its type
+/// the answer's readings name: there, "the cup" tells it apart. The readings' descriptions and
+/// reasons keep the id, as the contract describes them against the whole scene.
+fn spoken(plan: &Plan, interpretations: &mut [Interpretation], style: Style, describer: &mut Describer<'_>) -> String {
+    let alone = alone(interpretations, describer.scene());
+    if alone.is_empty() {
+        return speech::utterance(plan, interpretations, style, describer);
+    }
+    let kept: Vec<String> = interpretations.iter().map(|i| i.description.clone()).collect();
+    for i in interpretations.iter_mut() {
+        for id in &alone {
+            i.description = i.description.replace(&format!(" ({id})"), "");
+        }
+    }
+    describer.without_ids(alone);
+    let utterance = speech::utterance(plan, interpretations, style, describer);
+    describer.without_ids(Vec::new());
+    for (i, description) in interpretations.iter_mut().zip(kept) {
+        i.description = description;
+    }
+    utterance
+}
+
+/// The objects the readings name with an id in their words that are the only objects of their
+/// type among all the objects the readings name.
+fn alone(interpretations: &[Interpretation], scene: &Scene) -> Vec<Sym> {
+    if !interpretations.iter().any(|i| i.description.contains(')')) {
+        return Vec::new();
+    }
+    let mut named: Vec<&super::scene::Object> = Vec::new();
+    for i in interpretations {
+        for value in &i.values {
+            if let Some(object) = value.name().and_then(|id| scene.object(id))
+                && !named.iter().any(|o| o.id == object.id)
+            {
+                named.push(object);
+            }
+        }
+    }
+    (named.iter())
+        .filter(|o| named.iter().filter(|p| p.kind == o.kind).count() == 1)
+        .filter(|o| {
+            interpretations
+                .iter()
+                .any(|i| i.description.contains(&format!(" ({})", o.id)))
+        })
+        .map(|o| o.id.clone())
+        .collect()
 }
 
 #[cfg(test)]

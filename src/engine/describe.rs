@@ -109,6 +109,9 @@ pub struct Describer<'a> {
     /// In a large scene, the words for each type and features described so far, and whether
     /// distractors remain: objects that look alike are described by one pass over their type.
     looks: FxHashMap<Look<'a>, (String, bool)>,
+    /// Objects whose id is left out of what is spoken: each is the only one of its type among
+    /// the readings an answer speaks of, so its description serves without it.
+    alone: Vec<Sym>,
 }
 
 impl<'a> Describer<'a> {
@@ -119,6 +122,7 @@ impl<'a> Describer<'a> {
             cache: FxHashMap::default(),
             kinds: Arc::default(),
             looks: FxHashMap::default(),
+            alone: Vec::new(),
         }
     }
 
@@ -131,7 +135,27 @@ impl<'a> Describer<'a> {
             cache: FxHashMap::default(),
             kinds: self.kinds.clone(),
             looks: FxHashMap::default(),
+            alone: self.alone.clone(),
         }
+    }
+
+    pub fn scene(&self) -> &'a Scene {
+        self.scene
+    }
+
+    /// Leaves the ids of `objects` out of what is spoken from now on ("the cup", not "the cup
+    /// (cup1)"): for an answer in which each is the only object of its type.
+    pub fn without_ids(&mut self, objects: Vec<Sym>) {
+        self.alone = objects;
+    }
+
+    /// `words` (an object's description) as spoken: without its id when the object is alone.
+    fn push_spoken(&self, name: &Sym, words: &str, out: &mut String) {
+        let kept = match self.alone.contains(name) {
+            true => words.strip_suffix(&format!(" ({name})")).unwrap_or(words),
+            false => words,
+        };
+        out.push_str(kept);
     }
 
     /// An argument in words: an object of the scene by its description, another constant as
@@ -149,7 +173,7 @@ impl<'a> Describer<'a> {
             return;
         };
         if let Some(words) = self.cache.get(name) {
-            out.push_str(words);
+            self.push_spoken(name, words, out);
             return;
         }
         let Some(object) = self.scene.object(name) else {
@@ -175,7 +199,7 @@ impl<'a> Describer<'a> {
             });
             with_id(text.clone(), *distractors, object)
         };
-        out.push_str(&words);
+        self.push_spoken(name, &words, out);
         self.cache.insert(name.clone(), words);
     }
 

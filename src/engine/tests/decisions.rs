@@ -139,3 +139,36 @@ fn single_candidates_unresolved_references_and_strategies() {
         ),
     ]);
 }
+
+/// Issue 50, §2: "I'll get the cup (cup1)." An id is spoken only where nothing else in the
+/// answer tells its object apart: not when the reading's object is the only one of its type the
+/// answer names. The readings' descriptions keep it, as the contract describes them.
+#[test]
+fn an_id_is_spoken_only_where_the_answer_needs_it() {
+    let twins = || {
+        scene(
+            vec![
+                obj("cup1", "cup", &[], &[], [0.5, 0.0, 0.8], None),
+                obj("cup2", "cup", &[], &[], [0.5, 0.1, 0.8], None),
+                obj("cup3", "cup", &[], &[], [3.5, 0.1, 0.8], None),
+            ],
+            &[],
+        )
+    };
+    let d = run(&natural(act("get", vec![id("cup1")])), &twins(), &norms(&[]));
+    assert_eq!(d.utterance, "Okay, I will get the cup.");
+    assert_eq!(d.interpretations[0].description, "the cup (cup1)");
+    let d = run(&act("destroy", vec![id("cup1")]), &twins(), &norms(&[fa("destroy")]));
+    assert_eq!(
+        d.utterance,
+        "I cannot destroy the cup because destroy is forbidden action."
+    );
+    // Two cups in the answer: the ids tell them apart.
+    let d = run(&act("get", vec![ty("cup")]), &twins(), &norms(&[]));
+    assert_eq!(d.kind, Ask);
+    assert!(
+        d.utterance.contains("(cup1)") && d.utterance.contains("(cup2)"),
+        "{}",
+        d.utterance
+    );
+}
