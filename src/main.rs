@@ -413,7 +413,8 @@ impl ServeArgs {
         Ok(Config {
             listen: self.listen,
             database_url: self.database_url,
-            admin_token: self.admin_token.filter(|t| !t.is_empty()).map(Secret),
+            // Set but empty is refused at start (`Tokens::new`), never taken as unset.
+            admin_token: self.admin_token.map(Secret),
             curator_tokens: self.curator_tokens,
             reader_tokens: self.reader_tokens,
             max_body_bytes: self.max_body_bytes,

@@ -288,7 +288,7 @@ async fn bad_verbs_name_their_field_and_store_nothing() {
 #[tokio::test]
 async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() {
     let app = spawn_with(Options {
-        admin_token: Some("t0ken".into()),
+        admin_token: Some("t0ken-0123456789ab".into()),
         ..Options::default()
     })
     .await;
@@ -312,7 +312,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
     let deleted = app
         .client
         .delete(app.url("/v1/actions/get"))
-        .bearer_auth("t0ken")
+        .bearer_auth("t0ken-0123456789ab")
         .send()
         .await
         .unwrap();
@@ -325,7 +325,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
     let again = app
         .client
         .delete(app.url("/v1/actions/get"))
-        .bearer_auth("t0ken")
+        .bearer_auth("t0ken-0123456789ab")
         .send()
         .await
         .unwrap();
@@ -374,7 +374,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
     });
     authorised
         .metadata_mut()
-        .insert("authorization", "Bearer t0ken".parse().unwrap());
+        .insert("authorization", "Bearer t0ken-0123456789ab".parse().unwrap());
     assert!(actions.put_action(authorised).await.unwrap().into_inner().created);
     assert_eq!(
         app.clarify(&request("get", &["mug"], lab_scene())).await["decision"],

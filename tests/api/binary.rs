@@ -15,7 +15,7 @@ async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm(
     let served = serve_binary(
         &format!("sqlite://{}", db.display()),
         &[],
-        &[("SCRUPLE_ADMIN_TOKEN", "from-env"), ("RUST_LOG", "warn")],
+        &[("SCRUPLE_ADMIN_TOKEN", "from-env-0123456789"), ("RUST_LOG", "warn")],
         Stdio::null(),
     );
     let addr = served.addr.clone();
@@ -34,7 +34,7 @@ async fn serve_prints_its_address_enforces_the_env_token_and_exits_0_on_sigterm(
     assert_eq!(denied.status(), StatusCode::UNAUTHORIZED);
     let created = client
         .post(format!("http://{addr}/v1/norms"))
-        .bearer_auth("from-env")
+        .bearer_auth("from-env-0123456789")
         .json(&norm)
         .send()
         .await
@@ -64,4 +64,83 @@ fn the_server_runs_without_transparent_huge_pages() {
         Some("0"),
         "THP_enabled in /proc/PID/status:\n{status}"
     );
+}
+
+/// An empty, blank or short admin token stops the start, as a curator secret under 16 bytes
+/// always did: `SCRUPLE_ADMIN_TOKEN=""` (a variable set from an unset one) used to leave every
+/// write open, with no word. The error names the flag and the variable and never the secret;
+/// nothing listens and no database is made.
+#[test]
+fn an_empty_blank_or_short_admin_token_stops_the_start() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("never.db");
+    let url = format!("sqlite://{}", db.display());
+    // The outcome of a start, or a failure if it is still serving after a while.
+    let start = |args: &[&str], envs: &[(&str, &str)]| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_scruple"));
+        command
+            .args(["serve", "--listen", "127.0.0.1:0", "--database-url", &url])
+            .args(args)
+            .env_remove("SCRUPLE_ADMIN_TOKEN")
+            .env("RUST_LOG", "off")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        for (name, value) in envs {
+            command.env(name, value);
+        }
+        let mut child = command.spawn().unwrap();
+        let began = std::time::Instant::now();
+        while child.try_wait().unwrap().is_none() {
+            if began.elapsed() > std::time::Duration::from_secs(20) {
+                child.kill().unwrap();
+                let out = child.wait_with_output().unwrap();
+                panic!(
+                    "{args:?} {envs:?}: the service started: {}",
+                    String::from_utf8_lossy(&out.stdout)
+                );
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        child.wait_with_output().unwrap()
+    };
+    let cases: [(&[&str], &[(&str, &str)]); 6] = [
+        (&[], &[("SCRUPLE_ADMIN_TOKEN", "")]),
+        (&[], &[("SCRUPLE_ADMIN_TOKEN", "   \t ")]),
+        (&[], &[("SCRUPLE_ADMIN_TOKEN", "short-SECRET")]),
+        (&["--admin-token", ""], &[]),
+        (&["--admin-token", "   "], &[]),
+        (&["--admin-token", "short-SECRET"], &[]),
+    ];
+    for (args, envs) in cases {
+        let out = start(args, envs);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && out.status.code().is_some(),
+            "{args:?} {envs:?}: {:?} {stderr}",
+            out.status
+        );
+        assert!(
+            stderr.contains("--admin-token") && stderr.contains("SCRUPLE_ADMIN_TOKEN"),
+            "{args:?} {envs:?}: the error names the flag and the variable: {stderr}"
+        );
+        assert!(!stderr.contains("SECRET"), "the secret is never echoed: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?} {envs:?} must not listen");
+        assert!(!db.exists(), "{args:?} {envs:?}: no database is made");
+    }
+    // Sixteen bytes start, and guard writes.
+    let served = serve_binary(&url, &["--admin-token", "sixteen-byte-tok"], &[], Stdio::null());
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    let status = runtime.block_on(async {
+        let norm = json!({"kind": "forbidden_action", "action": "destroy"});
+        let url = format!("http://{}/v1/norms", served.addr);
+        crate::helpers::http_client()
+            .post(url)
+            .json(&norm)
+            .send()
+            .await
+            .map(|r| r.status())
+    });
+    assert_eq!(status.unwrap(), StatusCode::UNAUTHORIZED);
+    assert!(served.terminate().success());
 }

@@ -295,7 +295,7 @@ async fn an_import_with_one_bad_norm_or_a_stale_version_changes_nothing() {
 #[tokio::test]
 async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     let app = spawn_tweaked(|config| {
-        config.admin_token = Some(Secret("root-secret".into()));
+        config.admin_token = Some(Secret("root-secret-0123456789".into()));
         config.curator_tokens = vec![LabelledSecret {
             label: "alice".into(),
             secret: "alice-secret-0123456789".into(),
@@ -304,7 +304,7 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     .await;
     let as_token = |token: &'static str| move |request: reqwest::RequestBuilder| request.bearer_auth(token).send();
     let alice = as_token("alice-secret-0123456789");
-    let admin = as_token("root-secret");
+    let admin = as_token("root-secret-0123456789");
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
     let created = alice(app.client.post(app.url("/v1/norms")).json(&norm)).await.unwrap();
     assert_eq!(created.status(), StatusCode::CREATED);
