@@ -873,3 +873,38 @@ async fn health_says_what_a_decision_would_find() {
     )
     .await;
 }
+
+/// Finding: `/v1/audit?actor=alice` answered every entry, as if filtered by nobody: a member
+/// the endpoint does not take was silently ignored. Each unknown or repeated member is a 422
+/// naming it; the members it takes still work, percent-encoded or not.
+#[tokio::test]
+async fn an_audit_query_member_the_endpoint_does_not_take_is_a_422_naming_it() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    for (query, field) in [
+        ("actor=alice", "/actor"),
+        ("after=0&actor=alice", "/actor"),
+        ("subject=norm&limit=5", "/subject"),
+        ("after=0&after=1", "/after"),
+        ("limit=5&limit=5", "/limit"),
+        ("after", "/after"),
+    ] {
+        let problem = assert_problem(
+            app.get(&format!("/v1/audit?{query}")).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+        assert!(
+            problem["detail"].as_str().unwrap_or_default().contains('`'),
+            "{query}: the detail names it: {problem}"
+        );
+    }
+    for query in ["", "after=0", "after=0&limit=5", "%61fter=0&limit=%35", "after=0&"] {
+        let response = app.get(&format!("/v1/audit?{query}")).await;
+        assert_eq!(response.status(), StatusCode::OK, "{query}");
+        let page: Value = response.json().await.unwrap();
+        assert_eq!(page["entries"].as_array().map(Vec::len), Some(1), "{query}");
+    }
+}

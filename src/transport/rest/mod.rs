@@ -442,23 +442,35 @@ struct AuditQuery {
 }
 
 impl AuditQuery {
-    /// Each parameter that is not an integer is a 422 naming it (`/after`, `/limit`); others
-    /// are ignored, as HTTP caches and proxies may add their own.
-    fn parse(query: &str) -> Result<AuditQuery, Error> {
+    /// The members, percent-decoded. Each is a 422 naming it (`/after`, `/limit`, `/actor`)
+    /// when it is not an integer, is given twice, or is not one the trail takes: a filter the
+    /// service does not have (`?actor=alice`) must not be answered as if it had applied it.
+    fn parse(uri: &axum::http::Uri) -> Result<AuditQuery, Error> {
+        let axum::extract::Query(pairs) = axum::extract::Query::<Vec<(String, String)>>::try_from_uri(uri)
+            .map_err(|rejection| Error::invalid("", rejection.body_text()))?;
         let mut parsed = AuditQuery {
             after: None,
             limit: None,
         };
-        for pair in query.split('&').filter(|p| !p.is_empty()) {
-            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
-            let slot = match key {
+        for (key, value) in pairs {
+            let field = format!("/{}", crate::wire::pointer_segment(&key));
+            let shown = crate::engine::input::escape_unseen(&key);
+            let slot = match key.as_str() {
                 "after" => &mut parsed.after,
                 "limit" => &mut parsed.limit,
-                _ => continue,
+                _ => {
+                    return Err(Error::invalid(
+                        field,
+                        format!("`{shown}` is not a member of this query: the audit trail takes `after` and `limit`"),
+                    ));
+                }
             };
+            if slot.is_some() {
+                return Err(Error::invalid(field, format!("`{shown}` is given twice")));
+            }
             let number = value
                 .parse::<i64>()
-                .map_err(|_| Error::invalid(format!("/{key}"), format!("`{key}` must be an integer")))?;
+                .map_err(|_| Error::invalid(field, format!("`{shown}` must be an integer")))?;
             *slot = Some(number);
         }
         Ok(parsed)
@@ -471,12 +483,12 @@ impl AuditQuery {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "A page of entries", body = AuditPageDto),
-        (status = 422, description = "`after` or `limit` is not an integer, or `limit` is out of range; `field` names it", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "`after` or `limit` is not an integer, is given twice, or `limit` is out of range; or the query has a member the trail does not take (`actor`): `field` names it", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
-    let query = AuditQuery::parse(request.uri().query().unwrap_or_default())?;
+    let query = AuditQuery::parse(request.uri())?;
     let after = query.after.unwrap_or(0);
     let page = app.core.audit(after, query.limit).await?;
     let entries = page.entries.into_iter().map(Into::into).collect();
