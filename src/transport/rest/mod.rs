@@ -23,7 +23,7 @@ use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 use crate::wire::{
     ActionSchema, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DecisionDto, NormBody, NormDto, NormSetBody,
-    NormSetDto, parse_json,
+    NormSetDto, NormSetImportSchema, parse_json,
 };
 
 mod coding;
@@ -401,15 +401,15 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
 
 #[utoipa::path(put, path = "/v1/norm-set", tag = "norms",
     summary = "Import a whole norm set, replacing every norm in one transaction",
-    description = "Takes what GET /v1/norm-set gives. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
+    description = "Takes what GET /v1/norm-set gives, or a plain list of norms (the offline CLI's norms file), taken as the set's `norms`. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
     params(("if-match" = Option<String>, Header, description = "The norm-set version expected, as an ETag")),
-    request_body(content = NormSetBody, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
+    request_body(content = NormSetImportSchema, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
     security((), ("token" = [])),
     responses(
         (status = 200, description = "Imported; the set as stored, its version in `ETag`", body = NormSetDto,
          headers(("etag" = String, description = "The new norm-set version, quoted"))),
         doc::problems::Changed,
-        (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`, or `/3/severity` in a list); or the body is neither a norm set nor a list of norms", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
@@ -423,7 +423,17 @@ async fn import_norms(
     let current = async { Ok(app.core.export_norms().await?.0) };
     let expected = if_match.expected(|| "the norm set".to_owned(), current).await?;
     let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
-    let (version, norms) = app.core.import_norms(inputs, expected, &actor).await?;
+    let imported = app.core.import_norms(inputs, expected, &actor).await;
+    // Core points into a set's `norms`; a list sent bare is pointed into as it was sent.
+    let (version, norms) = imported.map_err(|e| match e {
+        Error::Invalid { field, detail } if body.listed => Error::Invalid {
+            field: field
+                .strip_prefix("/norms")
+                .map_or_else(|| field.clone(), str::to_owned),
+            detail,
+        },
+        other => other,
+    })?;
     let set = NormSetDto {
         version,
         norms: norms.iter().map(NormDto::from).collect(),
