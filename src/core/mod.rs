@@ -16,7 +16,7 @@ pub use knowledge::{DEFAULT_LEASE_MS, Knowledge, MAX_LEASE_MS, lease_margin};
 use knowledge::{Leased, Readiness, Source};
 
 use crate::engine::Library;
-use crate::engine::action::{ActionDef, ActionInput};
+use crate::engine::action::{ActionDef, ActionInput, callers_of};
 use crate::engine::check::{Check, CheckInput, CheckRequest, check};
 use crate::engine::clarify::clarify;
 use crate::engine::decision::Decision;
@@ -452,8 +452,19 @@ impl Core {
         Ok((written, self.settled(created).await))
     }
 
+    /// Removes a verb, unless another verb calls it in a method (409, naming them: they, and
+    /// every reading that uses them, would fail at that step); judged and removed in one
+    /// transaction.
     pub async fn delete_action(&self, name: &str, actor: &str) -> Result<(), Error> {
-        if self.store()?.delete_action(name, actor).await? {
+        let this = name.to_owned();
+        let accept = move |rest: &[StoredAction]| match callers_of(rest, &this).as_slice() {
+            [] => Ok(()),
+            callers => Err(Error::VerbInUse {
+                verb: this.clone(),
+                callers: listed(callers),
+            }),
+        };
+        if self.store()?.delete_action(name, &accept, actor).await?? {
             self.settled(()).await;
             Ok(())
         } else {
@@ -516,6 +527,15 @@ pub fn validate_norm_set(inputs: Vec<(Option<i64>, NormInput)>) -> Result<Vec<(O
         norms.push((id, spec));
     }
     Ok(norms)
+}
+
+/// Names as a sentence lists them: "`put`", "`put` and `fetch`", "`a`, `b` and `c`".
+fn listed(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.as_slice() {
+        [init @ .., last] if !init.is_empty() => format!("{} and {last}", init.join(", ")),
+        _ => quoted.concat(),
+    }
 }
 
 /// How a conditional write on norm `id` ends for the caller.

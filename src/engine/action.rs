@@ -402,6 +402,19 @@ impl ActionDef {
     }
 }
 
+/// The verbs, by name, whose methods call a verb named `name` (of any arity): those removing
+/// it would leave failing at that step. A definition that does not validate calls nothing (a
+/// library holding it fails closed anyway).
+pub fn callers_of(verbs: &[(String, ActionInput)], name: &str) -> Vec<String> {
+    let calls = |(verb, input): &&(String, ActionInput)| {
+        verb != name
+            && input
+                .validate(verb)
+                .is_ok_and(|def| def.callees().any(|(callee, _)| &*callee == name))
+    };
+    verbs.iter().filter(calls).map(|(verb, _)| verb.clone()).collect()
+}
+
 /// Most steps one reading of a verb may cost to simulate, counted as the simulation tries them:
 /// every step of every method (a reading whose first method fails tries the next), each call
 /// of another verb at that verb's own cost. Checked when a verb is stored, so that no directive

@@ -217,6 +217,13 @@ pub trait NormStore: Send + Sync + 'static {
         accept: &Accept,
         actor: &str,
     ) -> Result<Result<bool, crate::error::Error>, StoreError>;
-    /// Whether a verb of that name existed (and is now gone).
-    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError>;
+    /// Removes a verb in one transaction; whether a verb of that name existed (and is now
+    /// gone). `accept` sees the library as it would be without it and may refuse (another verb
+    /// calls it); then nothing is written.
+    async fn delete_action(
+        &self,
+        name: &str,
+        accept: &Accept,
+        actor: &str,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError>;
 }

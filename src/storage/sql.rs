@@ -493,13 +493,25 @@ impl<B: Backend> NormStore for SqlStore<B> {
         Ok(Ok(created))
     }
 
-    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError> {
+    async fn delete_action(
+        &self,
+        name: &str,
+        accept: &Accept,
+        actor: &str,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError> {
+        // Under the write lock from the start: no verb can come to call this one between the
+        // judgement and the delete.
         let mut tx = self.backend.write().await?;
-        let all = tx.actions().await?;
-        let Some((_, before)) = all.into_iter().find(|(n, _)| n == name) else {
+        let mut rest = tx.actions().await?;
+        let Some(at) = rest.iter().position(|(n, _)| n == name) else {
             tx.rollback().await?;
-            return Ok(false);
+            return Ok(Ok(false));
         };
+        let (_, before) = rest.remove(at);
+        if let Err(refused) = accept(&rest) {
+            tx.rollback().await?;
+            return Ok(Err(refused));
+        }
         tx.delete_action(name).await?;
         let version = tx.bump(Set::Actions).await?;
         tx.record(Change {
@@ -513,7 +525,7 @@ impl<B: Backend> NormStore for SqlStore<B> {
         })
         .await?;
         tx.commit().await?;
-        Ok(true)
+        Ok(Ok(true))
     }
 }
 

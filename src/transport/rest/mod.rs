@@ -642,11 +642,14 @@ async fn put_action(
 
 #[utoipa::path(delete, path = "/v1/actions/{name}", tag = "actions",
     summary = "Remove a verb; readings that use it become `unknown_action`",
+    description = "A verb another verb calls in a method (`get`, which the default `put` calls) is not removed: the answer is 409 naming the verbs that call it, and nothing changes. Change or remove them first.",
     params(("name" = String, Path, description = "The verb")),
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
         doc::problems::NoVerb,
+        (status = 409, description = "Other verbs call it in their methods; the detail names them", body = Problem, content_type = PROBLEM_JSON,
+         example = json!({"type": "/problems/verb-in-use", "title": "Verb in use", "status": 409, "detail": "verb `get` is called by `put`: change or remove them first"})),
         doc::problems::Store,
         doc::problems::WriteToken,
     ))]
