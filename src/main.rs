@@ -329,11 +329,12 @@ struct ServeArgs {
     /// debug). Off by default: they are personal data.
     #[arg(long, env = "SCRUPLE_LOG_UTTERANCES")]
     log_utterances: bool,
-    /// Milliseconds a read of the stored norm and verb versions is trusted before it is read
-    /// again (at most 20 reads a second per process at the default). Every write waits this
-    /// long, and a tenth more, after it commits before it is acknowledged, so a change is still
-    /// seen by every request that starts after its acknowledgement, on every process sharing
-    /// the database. 0 reads them for every request and acknowledges writes at once.
+    /// Milliseconds a read of the stored norm and verb versions is trusted; the first request
+    /// past three quarters of it reads them again (at the default, at most about 27 times a
+    /// second per process). Every write waits this long, and a tenth more (56 ms at the
+    /// default), after it commits before it is acknowledged, so a change is seen by every
+    /// request that starts after its acknowledgement, on every process sharing the database.
+    /// 0 reads them for every request and acknowledges writes at once.
     #[arg(long, env = "SCRUPLE_VERSIONS_LEASE_MS", default_value_t = DEFAULT_LEASE_MS,
           value_parser = clap::value_parser!(u64).range(0..=MAX_LEASE_MS))]
     versions_lease_ms: u64,

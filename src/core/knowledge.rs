@@ -14,8 +14,9 @@ use crate::error::Error;
 use crate::metrics::{Cache, Metrics, Outcome};
 use crate::storage::{NormStore, Write};
 
-/// Default for `--versions-lease-ms`: the stored versions are read at most 20 times a second
-/// per process, and a write is acknowledged about 55 ms after it commits.
+/// Default for `--versions-lease-ms`: the stored versions are read again by the first request
+/// past three quarters of the lease, so at most about 27 times a second per process, and a
+/// write is acknowledged 56 ms (the lease and [`lease_margin`]) after it commits.
 pub const DEFAULT_LEASE_MS: u64 = 50;
 /// The longest lease `--versions-lease-ms` takes: every write waits this long.
 pub const MAX_LEASE_MS: u64 = 10_000;

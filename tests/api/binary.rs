@@ -144,3 +144,34 @@ fn an_empty_blank_or_short_admin_token_stops_the_start() {
     assert_eq!(status.unwrap(), StatusCode::UNAUTHORIZED);
     assert!(served.terminate().success());
 }
+
+/// The lease's costs as `serve --help` and the README state them agree with each other and
+/// with the lease's arithmetic (they said 20 and 27 reads a second): at the default lease L,
+/// the versions are read again by the first request past three quarters of it, so at most
+/// 1000 / (0.75 L) times a second, and a write is acknowledged L + L/10 + 1 ms after it commits.
+#[test]
+fn the_lease_help_and_the_readme_state_the_same_costs() {
+    let lease = scruple::core::DEFAULT_LEASE_MS;
+    let reads = (1000.0 / (0.75 * lease as f64)).round() as u64;
+    let wait =
+        std::time::Duration::from_millis(lease) + scruple::core::lease_margin(std::time::Duration::from_millis(lease));
+    let reads = format!("{reads} times a second");
+    let wait = format!("{} ms", wait.as_millis());
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_scruple"))
+        .args(["serve", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&help.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let readme = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+    for (what, text) in [("serve --help", &help), ("README.md", &readme)] {
+        assert!(text.contains(&reads), "{what} should say {reads:?}");
+        assert!(text.contains(&wait), "{what} should say {wait:?}");
+        for wrong in ["20 reads a second", "20 times a second", "27 reads a second"] {
+            assert!(!text.contains(wrong), "{what} still says {wrong:?}");
+        }
+    }
+}
