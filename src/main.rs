@@ -331,10 +331,11 @@ struct ServeArgs {
     log_utterances: bool,
     /// Milliseconds a read of the stored norm and verb versions is trusted; the first request
     /// past three quarters of it reads them again (at the default, at most about 27 times a
-    /// second per process). Every write waits this long, and a tenth more (56 ms at the
+    /// second per process). Every write waits the longest lease of any process serving the
+    /// database (each records its own while it serves), and a tenth more (56 ms at the
     /// default), after it commits before it is acknowledged, so a change is seen by every
     /// request that starts after its acknowledgement, on every process sharing the database.
-    /// 0 reads them for every request and acknowledges writes at once.
+    /// 0 reads them for every request.
     #[arg(long, env = "SCRUPLE_VERSIONS_LEASE_MS", default_value_t = DEFAULT_LEASE_MS,
           value_parser = clap::value_parser!(u64).range(0..=MAX_LEASE_MS))]
     versions_lease_ms: u64,

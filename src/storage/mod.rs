@@ -205,6 +205,16 @@ pub trait NormStore: Send + Sync + 'static {
     /// Whether the store is open, migrated and readable.
     async fn ping(&self) -> Result<(), StoreError>;
 
+    /// Records that a process serving this store trusts the stored versions it reads for
+    /// `lease` (its `--versions-lease-ms`); `holder` names the process for an operator. Made
+    /// before the process first reads the versions; returns the record's id.
+    async fn hold_lease(&self, lease: std::time::Duration, holder: &str) -> Result<i64, StoreError>;
+    /// Removes a record of [`NormStore::hold_lease`] once its process answers no more requests.
+    async fn release_lease(&self, id: i64) -> Result<(), StoreError>;
+    /// The longest lease any process serving this store records (zero when none does): how
+    /// long after a commit some process may still answer under the versions before it.
+    async fn longest_lease(&self) -> Result<std::time::Duration, StoreError>;
+
     /// Every verb and the action-set version they make up, read in one snapshot, by name.
     async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError>;
     /// Adds or replaces a verb in one transaction. `accept` sees the whole library as it would

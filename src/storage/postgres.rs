@@ -174,6 +174,24 @@ impl Tx for PostgresTx {
         Ok(())
     }
 
+    async fn hold_lease(&mut self, lease_ms: i64, holder: &str) -> Result<i64, StoreError> {
+        Ok(
+            sqlx::query_scalar("INSERT INTO leases (lease_ms, holder) VALUES ($1, $2) RETURNING id")
+                .bind(lease_ms)
+                .bind(holder)
+                .fetch_one(&mut *self.0)
+                .await?,
+        )
+    }
+
+    async fn release_lease(&mut self, id: i64) -> Result<(), StoreError> {
+        sqlx::query("DELETE FROM leases WHERE id = $1")
+            .bind(id)
+            .execute(&mut *self.0)
+            .await?;
+        Ok(())
+    }
+
     async fn commit(self) -> Result<(), StoreError> {
         Ok(self.0.commit().await?)
     }
@@ -218,6 +236,12 @@ impl Backend for PostgresBackend {
         .fetch_one(&self.pool)
         .await?;
         Ok(Versions { norms, actions })
+    }
+
+    async fn longest_lease_ms(&self) -> Result<i64, StoreError> {
+        Ok(sqlx::query_scalar("SELECT COALESCE(MAX(lease_ms), 0) FROM leases")
+            .fetch_one(&self.pool)
+            .await?)
     }
 
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError> {

@@ -246,6 +246,9 @@ pub trait Tx: Send + Sized {
     async fn upsert_action(&mut self, name: &str, definition: &str) -> Result<(), StoreError>;
     async fn delete_action(&mut self, name: &str) -> Result<(), StoreError>;
     async fn record(&mut self, change: Change<'_>) -> Result<(), StoreError>;
+    /// Adds a serving process's lease record; returns its id.
+    async fn hold_lease(&mut self, lease_ms: i64, holder: &str) -> Result<i64, StoreError>;
+    async fn release_lease(&mut self, id: i64) -> Result<(), StoreError>;
     async fn commit(self) -> Result<(), StoreError>;
     async fn rollback(self) -> Result<(), StoreError>;
 }
@@ -263,6 +266,8 @@ pub trait Backend: Send + Sync + 'static {
     /// Both set versions in one cheap statement.
     async fn versions(&self) -> Result<Versions, StoreError>;
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError>;
+    /// The longest lease recorded, in milliseconds (0 when none is).
+    async fn longest_lease_ms(&self) -> Result<i64, StoreError>;
 }
 
 /// A norm store on a SQL backend.
@@ -442,6 +447,27 @@ impl<B: Backend> NormStore for SqlStore<B> {
 
     async fn ping(&self) -> Result<(), StoreError> {
         self.versions().await.map(|_| ())
+    }
+
+    async fn hold_lease(&self, lease: std::time::Duration, holder: &str) -> Result<i64, StoreError> {
+        let lease_ms =
+            i64::try_from(lease.as_millis()).map_err(|_| StoreError::new("the lease is too long to record"))?;
+        let mut tx = self.backend.write().await?;
+        let id = tx.hold_lease(lease_ms, holder).await?;
+        tx.commit().await?;
+        Ok(id)
+    }
+
+    async fn release_lease(&self, id: i64) -> Result<(), StoreError> {
+        let mut tx = self.backend.write().await?;
+        tx.release_lease(id).await?;
+        tx.commit().await
+    }
+
+    async fn longest_lease(&self) -> Result<std::time::Duration, StoreError> {
+        self.backend.still_there()?;
+        let ms = self.backend.longest_lease_ms().await?;
+        Ok(std::time::Duration::from_millis(u64::try_from(ms).unwrap_or(0)))
     }
 
     async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError> {

@@ -14,6 +14,7 @@ mod grpc;
 mod hardening;
 mod helpers;
 mod integrity;
+mod leases;
 mod limits;
 mod norms;
 mod observability;
