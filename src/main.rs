@@ -17,7 +17,7 @@ use scruple::core::{
     MAX_LEASE_MS, RequestLimits,
 };
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
-use scruple::offline::{self, Failure, Sources, Summary};
+use scruple::offline::{self, Failure, Sources, Summary, emit};
 use scruple::transport::admission::{
     AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
 };
@@ -120,8 +120,7 @@ async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
     let knowledge = sources.knowledge(args.sources.norms.as_deref()).await?;
     let answer = offline::clarify_file(&args.file, knowledge).await?;
     let text = serde_json::to_string_pretty(&answer).map_err(|e| Failure::Run { detail: e.to_string() })?;
-    println!("{text}");
-    Ok(())
+    emit(&format!("{text}\n"))
 }
 
 /// What a replay made: its summary, and its answers when asked to keep them (for `--diff`).
@@ -147,7 +146,7 @@ fn replay_with_progress(
     let every = (total / 100).max(1);
     let progress = |done: usize| {
         if watching && (done.is_multiple_of(every) || done == total) {
-            eprint!("\r{label}: {done}/{total}");
+            let _ = write!(std::io::stderr(), "\r{label}: {done}/{total}");
         }
     };
     let writing = out.is_some();
@@ -173,7 +172,7 @@ fn replay_with_progress(
     let runtime = tokio::runtime::Handle::current();
     tokio::task::block_in_place(|| offline::replay(lines, knowledge, &runtime, &progress, &each, &mut then));
     if watching && total > 0 {
-        eprintln!();
+        let _ = writeln!(std::io::stderr());
     }
     if let Some((path, out)) = out {
         failed
@@ -215,20 +214,22 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
         let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
         let before = replay_with_progress(&lines, baseline, "baseline", None, true)?.answers;
         let changes = offline::diff(&before, &answers);
-        print!("{}", offline::diff_report(&changes, summary.total));
+        let mut report = offline::diff_report(&changes, summary.total);
         if !summary.errors.is_empty() {
-            println!();
-            print!("{}", summary.errors_report());
+            report.push('\n');
+            report.push_str(&summary.errors_report());
         }
+        emit(&report)?;
     } else {
-        print!("{summary}");
+        emit(&summary.to_string())?;
     }
     Ok(summary.errors.is_empty())
 }
 
-/// The problem goes to stderr as one JSON line, for people and scripts alike.
+/// The problem goes to stderr as one JSON line, for people and scripts alike (unless nobody
+/// reads stderr either).
 fn failed(failure: &Failure) -> ExitCode {
-    eprintln!("{failure}");
+    let _ = writeln!(std::io::stderr(), "{failure}");
     ExitCode::from(failure.exit_code())
 }
 
@@ -600,12 +601,12 @@ async fn run(Cli { command }: Cli) -> ExitCode {
             Err(failure) => failed(&failure),
         },
         Command::Openapi => match scruple::transport::rest::openapi().to_pretty_json() {
-            Ok(text) => {
-                println!("{text}");
-                ExitCode::SUCCESS
-            }
+            Ok(text) => match emit(&format!("{text}\n")) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(failure) => failed(&failure),
+            },
             Err(e) => {
-                eprintln!("scruple: {e}");
+                let _ = writeln!(std::io::stderr(), "scruple: {e}");
                 ExitCode::FAILURE
             }
         },

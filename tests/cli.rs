@@ -596,3 +596,46 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
         "the answers differ between one core and all"
     );
 }
+
+/// The paper's vase request padded with white space (still valid JSON) to `bytes` bytes.
+fn padded_vase(demo: &Value, bytes: usize) -> String {
+    let mut text = body_of(demo, case_named(demo, "ambiguous, one forbidden state")).to_string();
+    text.insert_str(1, &" ".repeat(bytes.saturating_sub(text.len())));
+    text
+}
+
+/// Finding: `scruple openapi | head` and `scruple clarify … | head` panicked when the reader
+/// went away. A reader that leaves is not a failure of the command: it stops writing quietly,
+/// with the status it would have had.
+#[test]
+fn a_reader_that_goes_away_ends_the_output_quietly() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let vase = write(dir.path(), "vase.json", &padded_vase(&demo, 0));
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let norms = paper_norms(dir.path(), &demo);
+    for args in [
+        vec!["openapi"],
+        vec!["clarify", s(&vase)],
+        vec!["replay", s(&jsonl), "--norms", s(&norms)],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_scruple"))
+            .args(&args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The reader is gone before anything is written.
+        drop(child.stdout.take());
+        let output = child.wait_with_output().unwrap();
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{args:?}: {:?} {}",
+            output.status,
+            stderr(&output)
+        );
+        assert_eq!(stderr(&output), "", "{args:?}");
+    }
+}

@@ -126,6 +126,19 @@ pub fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
     }
 }
 
+/// Writes a command's output to standard output. A reader that has gone away (`| head`) is no
+/// failure of the command: the rest is dropped quietly, and the command ends with the status it
+/// would have had.
+pub fn emit(text: &str) -> Result<(), Failure> {
+    let mut stdout = std::io::stdout().lock();
+    match std::io::Write::write_all(&mut stdout, text.as_bytes()).and_then(|()| std::io::Write::flush(&mut stdout)) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::Run {
+            detail: format!("cannot write the standard output: {e}"),
+        }),
+        _ => Ok(()),
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Deciding
 
