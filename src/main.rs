@@ -81,8 +81,8 @@ struct SourceArgs {
     /// norms; without either, there are none.
     #[arg(long, value_name = "FILE")]
     norms: Option<PathBuf>,
-    /// A store to read norms and verbs from (`sqlite://PATH`, which must exist; an older one is
-    /// migrated). Without it: the default action library.
+    /// A store to read norms and verbs from (`sqlite://PATH` or `postgres://…`, which must
+    /// already hold one; an older one is migrated). Without it: the default action library.
     #[arg(long, value_name = "URL")]
     database_url: Option<String>,
 }

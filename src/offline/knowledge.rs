@@ -9,7 +9,7 @@ use crate::core::{Core, Settings, norm_to_create, validate_norm_set};
 use crate::engine::Library;
 use crate::engine::norms::{CompiledNorms, Norm, NormSpec};
 use crate::error::Error;
-use crate::storage::SqliteStore;
+use crate::storage::{self, NormStore, PostgresStore, SqliteStore};
 use crate::wire::{NormBody, NormSetBody, parse_json};
 
 /// The version a freshly migrated store gives the default library: offline answers without a
@@ -24,23 +24,37 @@ pub struct Sources {
 }
 
 impl Sources {
-    /// Opens the store at `database_url`, which must already exist: a store created here would
-    /// be empty and silently decide under no norms. Opening migrates an older store.
+    /// Opens the store at `database_url` (a SQLite file, or a PostgreSQL database as the server
+    /// opens it), which must already hold a store: one created here would be empty and
+    /// silently decide under no norms. Opening migrates an older store.
     pub async fn open(database_url: Option<&str>) -> Result<Sources, Failure> {
         let Some(url) = database_url else {
             return Ok(Sources { store: None });
         };
-        if let Some(path) = sqlite_file(url)
-            && !path.exists()
-        {
-            return Err(Failure::Usage {
-                detail: format!("no database at `{}` (from --database-url {url})", path.display()),
-            });
-        }
-        let store = SqliteStore::open(url)
-            .await
-            .map_err(|e| Failure::Run { detail: e.to_string() })?;
-        let core = Core::new(Arc::new(store), Arc::default(), Settings::default());
+        let run = |e: crate::storage::StoreError| Failure::Run { detail: e.to_string() };
+        let store: Arc<dyn NormStore> = if storage::is_postgres(url) {
+            match PostgresStore::open_existing(url).await.map_err(run)? {
+                Some(store) => Arc::new(store),
+                // The URL may carry a password: it is not repeated.
+                None => {
+                    return Err(Failure::Usage {
+                        detail: "no Scruple store in the PostgreSQL database of --database-url (it has no norm \
+                                 set): serve it once with `scruple serve`, or name the database that holds one"
+                            .to_owned(),
+                    });
+                }
+            }
+        } else {
+            if let Some(path) = sqlite_file(url)
+                && !path.exists()
+            {
+                return Err(Failure::Usage {
+                    detail: format!("no database at `{}` (from --database-url {url})", path.display()),
+                });
+            }
+            Arc::new(SqliteStore::open(url).await.map_err(run)?)
+        };
+        let core = Core::new(store, Arc::default(), Settings::default());
         Ok(Sources { store: Some(core) })
     }
 

@@ -29,11 +29,16 @@ pub use sqlite::SqliteStore;
 /// Opens the store a database URL names: `postgres://` or `postgresql://` for PostgreSQL,
 /// anything else for SQLite. Migrations are applied before it returns.
 pub async fn open(url: &str) -> Result<std::sync::Arc<dyn NormStore>, StoreError> {
-    if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+    if is_postgres(url) {
         Ok(std::sync::Arc::new(PostgresStore::open(url).await?))
     } else {
         Ok(std::sync::Arc::new(SqliteStore::open(url).await?))
     }
+}
+
+/// Whether a database URL names PostgreSQL (`postgres://`, `postgresql://`) rather than SQLite.
+pub fn is_postgres(url: &str) -> bool {
+    url.starts_with("postgres://") || url.starts_with("postgresql://")
 }
 
 /// A failure of the store itself (I/O, lock, corruption), never of the caller's input.

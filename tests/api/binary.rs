@@ -175,3 +175,67 @@ fn the_lease_help_and_the_readme_state_the_same_costs() {
         }
     }
 }
+
+/// Finding: `scruple clarify --database-url postgres://…` answered SQLite's "unable to open
+/// database file". The offline commands open a PostgreSQL store as the server does, and, as
+/// for a SQLite file, refuse a database that holds no store rather than decide under no norms.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_offline_commands_read_a_postgresql_store() {
+    let database = crate::backends::PgDatabase::create().await;
+    let dir = tempfile::tempdir().unwrap();
+    let vase = dir.path().join("vase.json");
+    std::fs::write(&vase, crate::helpers::get_vase().to_string()).unwrap();
+    let offline = move |url: String| {
+        let vase = vase.clone();
+        move || {
+            std::process::Command::new(env!("CARGO_BIN_EXE_scruple"))
+                .args(["clarify", vase.to_str().unwrap(), "--database-url", &url])
+                .env("RUST_LOG", "off")
+                .output()
+                .unwrap()
+        }
+    };
+    // A database with no store in it is refused.
+    let empty = tokio::task::spawn_blocking(offline(database.url.clone()))
+        .await
+        .unwrap();
+    assert_eq!(
+        empty.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&empty.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&empty.stderr).contains("no Scruple store"),
+        "{}",
+        String::from_utf8_lossy(&empty.stderr)
+    );
+
+    let mut config = scruple::app::Config::new("127.0.0.1:0", database.url.clone());
+    config.lease = std::time::Duration::ZERO;
+    let app = scruple::app::Application::build(config)
+        .await
+        .expect("the server starts");
+    let base = format!("http://{}", app.local_addr().unwrap());
+    let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+    let server = tokio::spawn(app.run_until(async {
+        let _ = stopped.await;
+    }));
+    let created = crate::helpers::http_client()
+        .post(format!("{base}/v1/norms"))
+        .json(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(created.status(), StatusCode::CREATED);
+    let _ = stop.send(());
+    server.await.unwrap().unwrap();
+
+    let output = tokio::task::spawn_blocking(offline(database.url.clone()))
+        .await
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let answer: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(answer["decision"], "assume", "{answer}");
+    assert_eq!(answer["norm_version"], 1);
+}
