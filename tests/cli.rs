@@ -604,6 +604,48 @@ fn padded_vase(demo: &Value, bytes: usize) -> String {
     text
 }
 
+/// Finding: `replay` printed a line's `condition` as written, so escape sequences in a replay
+/// file reached the terminal. What the reports print of a line's text (condition, id, words)
+/// shows control and direction characters escaped; `--out` keeps them as JSON does.
+#[test]
+fn replay_reports_show_control_characters_escaped() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let body = body_of(&demo, case_named(&demo, "ambiguous, one forbidden state"));
+    let mut titled = body.clone();
+    titled["directive"]["action"] = json!("\u{1b}]0;x\u{7}");
+    let text = [
+        json!({"id": "i\u{1b}[2J", "condition": "\u{1b}[31mred\u{7}", "request": body}),
+        json!({"id": "rtl", "condition": "a\u{202e}b", "request": titled}),
+    ]
+    .map(|l| l.to_string())
+    .join("\n");
+    let jsonl = write(dir.path(), "escapes.jsonl", &text);
+    let norms = paper_norms(dir.path(), &demo);
+    let out = dir.path().join("answers.jsonl");
+    let output = scruple(&["replay", s(&jsonl), "--out", s(&out)]);
+    let summary = stdout(&output);
+    for shown in [&summary, &stderr(&output)] {
+        assert!(
+            !shown.contains('\u{1b}') && !shown.contains('\u{7}') && !shown.contains('\u{202e}'),
+            "{shown:?}"
+        );
+    }
+    assert!(summary.contains("\\u{1b}[31mred\\u{7}"), "{summary}");
+    assert!(summary.contains("a\\u{202e}b"), "{summary}");
+    let answers = std::fs::read_to_string(&out).unwrap();
+    let first: Value = serde_json::from_str(answers.lines().next().unwrap()).unwrap();
+    assert_eq!(
+        first["condition"], "\u{1b}[31mred\u{7}",
+        "--out keeps the text as written"
+    );
+
+    let proposed = write(dir.path(), "none.json", "[]");
+    let output = replay_diff(&jsonl, &proposed, &norms);
+    assert!(!stdout(&output).contains('\u{1b}'), "{}", stdout(&output));
+    assert!(stdout(&output).contains("(i\\u{1b}[2J)"), "{}", stdout(&output));
+}
+
 /// Finding: `scruple openapi | head` and `scruple clarify … | head` panicked when the reader
 /// went away. A reader that leaves is not a failure of the command: it stops writing quietly,
 /// with the status it would have had.

@@ -1,4 +1,5 @@
-//! `scruple replay`: the line format, deciding every line, the answers and the summary.
+//! `scruple replay`: the line format, deciding every line, the answers and the summary (what it
+//! prints of a line's text shown escaped: `escape_unseen`).
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -8,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Knowledge, core_over, decide};
 use crate::core::Core;
+use crate::engine::input::escape_unseen;
 use crate::error::Problem;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
@@ -343,11 +345,14 @@ fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     out
 }
 
-/// A problem on one line of a report: its detail, and the field when one is at fault.
+/// A problem on one line of a report: its detail, and the field when one is at fault (both may
+/// echo the line, so they are shown escaped).
 fn problem_words(problem: &Problem) -> String {
-    match &problem.field {
-        Some(field) => format!("{} (at {})", problem.detail, if field.is_empty() { "/" } else { field }),
-        None => problem.detail.clone(),
+    let detail = escape_unseen(&problem.detail);
+    match problem.field.as_deref() {
+        Some("") => format!("{detail} (at /)"),
+        Some(field) => format!("{detail} (at {})", escape_unseen(field)),
+        None => detail.into_owned(),
     }
 }
 
@@ -375,7 +380,8 @@ impl fmt::Display for Summary {
             .by_condition
             .iter()
             .map(|(condition, counts)| {
-                let mut row = vec![condition.clone()];
+                // The file's text, shown escaped: a report goes to a terminal.
+                let mut row = vec![escape_unseen(condition).into_owned()];
                 row.extend(kinds.iter().map(|k| counts.get(*k).copied().unwrap_or(0).to_string()));
                 row
             })
