@@ -21,8 +21,7 @@ use crate::transport::conn::{self, ConnConfig, Served};
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, Shared, grpc, observe, rest};
 
-/// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
-pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+pub use crate::core::DEFAULT_MAX_BODY_BYTES;
 
 #[derive(Clone, Debug)]
 pub struct Config {

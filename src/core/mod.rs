@@ -31,6 +31,11 @@ use crate::error::Error;
 use crate::metrics::Metrics;
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
+/// Default for `--max-body-bytes`: the largest request body (REST), message (gRPC) or offline
+/// input (a `clarify` file, a `replay` line, a norms file); generous for scenes of thousands of
+/// objects.
+pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+
 /// What one request may ask, whether the human's words may be logged, and how long the stored
 /// versions are trusted.
 #[derive(Clone, Copy, Debug)]

@@ -62,9 +62,9 @@ impl Sources {
         self.store.is_some()
     }
 
-    /// The norms of `norms_file` when given, else the store's, else none (version 0); with the
-    /// store's library, else the default one.
-    pub async fn knowledge(&self, norms_file: Option<&Path>) -> Result<Knowledge, Failure> {
+    /// The norms of `norms_file` (at most `limit` bytes) when given, else the store's, else
+    /// none (version 0); with the store's library, else the default one.
+    pub async fn knowledge(&self, norms_file: Option<&Path>, limit: usize) -> Result<Knowledge, Failure> {
         let stored = match &self.store {
             Some(core) => Some(core.knowledge().await.map_err(|e| Failure::Run {
                 detail: e.problem().detail,
@@ -80,7 +80,7 @@ impl Sources {
             }
         };
         let norms = match (norms_file, stored) {
-            (Some(path), _) => Arc::new(norms_from_file(path)?),
+            (Some(path), _) => Arc::new(norms_from_file(path, limit)?),
             (None, Some(k)) => k.norms,
             (None, None) => Arc::new(CompiledNorms::compile(0, Vec::new())),
         };
@@ -98,10 +98,11 @@ fn sqlite_file(url: &str) -> Option<&Path> {
     Some(Path::new(path))
 }
 
-/// Reads a norms file: a JSON list of norms as `POST /v1/norms` takes them, or a norm set as
-/// `GET /v1/norm-set` gives it. Numbered as the server would number them on an empty store.
-pub fn norms_from_file(path: &Path) -> Result<CompiledNorms, Failure> {
-    let bytes = read_input(path)?;
+/// Reads a norms file of at most `limit` bytes: a JSON list of norms as `POST /v1/norms` takes
+/// them, or a norm set as `GET /v1/norm-set` gives it. Numbered as the server would number them
+/// on an empty store.
+pub fn norms_from_file(path: &Path, limit: usize) -> Result<CompiledNorms, Failure> {
+    let bytes = read_input(path, limit)?;
     norms_from_bytes(&bytes).map_err(|error| Failure::Input {
         file: path.display().to_string(),
         error,
