@@ -104,7 +104,9 @@ fn an_empty_blank_or_short_admin_token_stops_the_start() {
         }
         child.wait_with_output().unwrap()
     };
-    let cases: [(&[&str], &[(&str, &str)]); 6] = [
+    // The flags, then the variables, of each start.
+    type Start<'a> = (&'a [&'a str], &'a [(&'a str, &'a str)]);
+    let cases: [Start; 6] = [
         (&[], &[("SCRUPLE_ADMIN_TOKEN", "")]),
         (&[], &[("SCRUPLE_ADMIN_TOKEN", "   \t ")]),
         (&[], &[("SCRUPLE_ADMIN_TOKEN", "short-SECRET")]),
