@@ -16,7 +16,7 @@ pub use knowledge::{DEFAULT_LEASE_MS, Knowledge, MAX_LEASE_MS, lease_margin};
 use knowledge::{Leased, Readiness, Source};
 
 use crate::engine::Library;
-use crate::engine::action::{ActionDef, ActionInput, callers_of};
+use crate::engine::action::{ActionDef, ActionInput};
 use crate::engine::check::{Check, CheckInput, CheckRequest, check};
 use crate::engine::clarify::clarify;
 use crate::engine::decision::Decision;
@@ -532,6 +532,19 @@ pub fn validate_norm_set(inputs: Vec<(Option<i64>, NormInput)>) -> Result<Vec<(O
         norms.push((id, spec));
     }
     Ok(norms)
+}
+
+/// The verbs, by name, whose methods call a verb named `name` (of any arity): those removing
+/// it would leave failing at that step. A definition that does not validate calls nothing (a
+/// library holding it fails closed anyway).
+fn callers_of(verbs: &[StoredAction], name: &str) -> Vec<String> {
+    let calls = |(verb, input): &&StoredAction| {
+        verb != name
+            && input
+                .validate(verb)
+                .is_ok_and(|def| def.callees().any(|(callee, _)| &*callee == name))
+    };
+    verbs.iter().filter(calls).map(|(verb, _)| verb.clone()).collect()
 }
 
 /// Names as a sentence lists them: "`put`", "`put` and `fetch`", "`a`, `b` and `c`".

@@ -93,7 +93,7 @@ impl ActionDef {
     }
 
     /// The verbs this one's steps call, by name and arity.
-    fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
+    pub fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
         self.methods.iter().flat_map(|m| {
             m.steps.iter().filter_map(|s| match s {
                 Step::Do(t) => t.name().map(|n| (n.clone(), t.arity())),
@@ -400,19 +400,6 @@ impl ActionDef {
                 .collect(),
         }
     }
-}
-
-/// The verbs, by name, whose methods call a verb named `name` (of any arity): those removing
-/// it would leave failing at that step. A definition that does not validate calls nothing (a
-/// library holding it fails closed anyway).
-pub fn callers_of(verbs: &[(String, ActionInput)], name: &str) -> Vec<String> {
-    let calls = |(verb, input): &&(String, ActionInput)| {
-        verb != name
-            && input
-                .validate(verb)
-                .is_ok_and(|def| def.callees().any(|(callee, _)| &*callee == name))
-    };
-    verbs.iter().filter(calls).map(|(verb, _)| verb.clone()).collect()
 }
 
 /// Most steps one reading of a verb may cost to simulate, counted as the simulation tries them:
