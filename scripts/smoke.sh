@@ -21,7 +21,7 @@ passed=0
 ok() { passed=$((passed + 1)); echo "smoke: ok: $*"; }
 # start ARGS...: `scruple serve` on a free port with the smoke database and ARGS; sets server, addr.
 start() {
-  "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token "$@" \
+  "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/smoke.db" --admin-token smoke-token-0123456789 "$@" \
     >"$work/out" 2>"$work/err" &
   server=$!
   addr=$(listening_addr "$work/out") || fail "no 'listening on' line ($*); stderr: $(cat "$work/err")"
@@ -46,7 +46,7 @@ code=$(curl -s -o /dev/null -w '%{http_code}' -X POST "http://$addr/v1/norms" -H
 [ "$code" = 401 ] || fail "a write without the token answered $code"
 ok "POST /v1/norms without the token is 401"
 created=$(curl -s -X POST "http://$addr/v1/norms" -H 'content-type: application/json' \
-  -H 'authorization: Bearer smoke-token' -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
+  -H 'authorization: Bearer smoke-token-0123456789' -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
 id=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["id"])' "$created") || fail "create: $created"
 ok "POST /v1/norms stored norm $id"
 python3 - "$work/vase.json" <<'PY'
@@ -81,7 +81,7 @@ grep -q Unauthenticated "$work/denied" || fail "gRPC delete without the token: $
 ok "gRPC DeleteNorm without the token is UNAUTHENTICATED"
 
 # REST delete with the token; the norm is gone for both transports
-[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE -H 'authorization: Bearer smoke-token' "http://$addr/v1/norms/$id")" = 204 ] \
+[ "$(curl -s -o /dev/null -w '%{http_code}' -X DELETE -H 'authorization: Bearer smoke-token-0123456789' "http://$addr/v1/norms/$id")" = 204 ] \
   || fail "delete"
 ok "DELETE /v1/norms/$id is 204"
 grpcurl -plaintext -d "{\"id\": $id}" "$addr" scruple.v1.Norms/GetNorm >"$work/gone" 2>&1 || true
@@ -107,7 +107,7 @@ ok "cleartext on the TLS port gets no answer"
 grpcurl -cacert "$work/tls.crt" "localhost:$port" grpc.health.v1.Health/Check | grep -q '"SERVING"' || fail "gRPC health over TLS"
 ok "grpcurl -cacert health is SERVING"
 code=$(curl -s -o /dev/null -w '%{http_code}' --cacert "$work/tls.crt" -X POST "https://localhost:$port/v1/norms" \
-  -H 'content-type: application/json' -H 'authorization: Bearer smoke-token' \
+  -H 'content-type: application/json' -H 'authorization: Bearer smoke-token-0123456789' \
   -d '{"kind": "forbidden_state", "state": "did(self,get(object3))"}')
 [ "$code" = 201 ] || fail "POST /v1/norms with the token over TLS answered $code"
 ok "POST /v1/norms with the token over TLS is 201"

@@ -14,15 +14,14 @@ use crate::core::Core;
 use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
 use crate::error::Error;
 use crate::metrics::Metrics;
-use crate::storage::{self, StoreError};
+use crate::storage::{self, NormStore, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
 use crate::transport::conn::{self, ConnConfig, Served};
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, Shared, grpc, observe, rest};
 
-/// Default for `--max-body-bytes`: generous for scenes of thousands of objects.
-pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+pub use crate::core::DEFAULT_MAX_BODY_BYTES;
 
 #[derive(Clone, Debug)]
 pub struct Config {
@@ -101,6 +100,20 @@ pub struct Application {
     router: Served,
     tls: Option<Tls>,
     connections: ConnConfig,
+    store: Arc<dyn NormStore>,
+    /// The record of this process's versions lease in the store, released once it has drained.
+    lease: i64,
+}
+
+/// Who holds a lease, as an operator reading the store's `leases` table would look for it: the
+/// host and the process id.
+fn holder() -> String {
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap_or_default();
+    let host = match host.trim() {
+        "" => "an unknown host",
+        host => host,
+    };
+    format!("{host}, process {}", std::process::id())
 }
 
 impl Application {
@@ -125,10 +138,34 @@ impl Application {
         // Before the store, so that bad certificate files fail fast and touch nothing.
         let tls = config.tls.clone().map(Tls::load).transpose().map_err(StartError::Tls)?;
         let store = storage::open(&config.database_url).await?;
+        // Recorded before this process first reads the versions (the gRPC router's first probe
+        // does): a writer that reads the records after its commit counts this lease, and a
+        // commit made before this record was readable comes before this process's first read.
+        let lease = store.hold_lease(config.lease, &holder()).await?;
+        match Application::serving(config, tokens, tls, store.clone(), lease).await {
+            Ok(app) => Ok(app),
+            Err(e) => {
+                if let Err(release) = store.release_lease(lease).await {
+                    tracing::warn!(error = %release, "the versions lease recorded for this process stays in the store");
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// The rest of [`Application::build`], once the store is open and this process's lease is
+    /// recorded in it.
+    async fn serving(
+        config: Config,
+        tokens: Tokens,
+        tls: Option<Tls>,
+        store: Arc<dyn NormStore>,
+        lease: i64,
+    ) -> Result<Application, StartError> {
         let metrics = Arc::new(Metrics::new());
         let state = AppState::new(Shared {
             core: Arc::new(Core::new(
-                store,
+                store.clone(),
                 metrics.clone(),
                 Settings {
                     limits: config.limits,
@@ -151,6 +188,8 @@ impl Application {
             router: one_port(state, Admission::new(config.admission, metrics)).await?,
             tls,
             connections: config.connections,
+            store,
+            lease,
         })
     }
 
@@ -159,9 +198,22 @@ impl Application {
     }
 
     /// Serves until `shutdown` completes, then drains in-flight requests and returns, at the
-    /// latest at the drain deadline (`--drain-timeout-ms`).
+    /// latest at the drain deadline (`--drain-timeout-ms`). Once drained, the process's lease
+    /// record leaves the store: it answers no more requests, so no write need wait for it.
     pub async fn run_until(self, shutdown: impl Future<Output = ()> + Send + 'static) -> std::io::Result<()> {
-        conn::serve(self.listener, self.tls, self.router, self.connections, shutdown).await
+        let Application {
+            listener,
+            router,
+            tls,
+            connections,
+            store,
+            lease,
+        } = self;
+        let served = conn::serve(listener, tls, router, connections, shutdown).await;
+        if let Err(e) = store.release_lease(lease).await {
+            tracing::warn!(error = %e, "the versions lease recorded for this process stays in the store: writes wait it out until it is deleted");
+        }
+        served
     }
 }
 

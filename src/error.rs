@@ -45,6 +45,10 @@ pub enum Error {
         expected: String,
         current: i64,
     },
+    /// A verb other verbs call in their methods: removing it would leave them failing at that
+    /// step. `callers` is the list as written ("`put` and `fetch`"); nothing was changed.
+    #[error("verb `{verb}` is called by {callers}: change or remove them first")]
+    VerbInUse { verb: String, callers: String },
     /// Every worker is busy and the queue is full or waited too long: retry after a moment.
     #[error("the service is at its concurrency limit; retry after {retry_after_s} s")]
     Overloaded { retry_after_s: u64 },
@@ -140,6 +144,7 @@ impl Error {
             Error::Unauthenticated => (401, UNAUTHENTICATED, "unauthenticated", "Unauthenticated", shown(), None, None, Log::Debug),
             Error::Forbidden(_) => (403, PERMISSION_DENIED, "forbidden", "Forbidden", shown(), None, None, Log::Debug),
             Error::Stale { .. } => (412, FAILED_PRECONDITION, "stale-revision", "Stale revision", shown(), None, None, Log::Debug),
+            Error::VerbInUse { .. } => (409, FAILED_PRECONDITION, "verb-in-use", "Verb in use", shown(), None, None, Log::Debug),
             Error::Overloaded { retry_after_s } => (503, UNAVAILABLE, "overloaded", "Overloaded", shown(), None, Some(*retry_after_s), Log::Debug),
             Error::NormsUnavailable(_) => (503, UNAVAILABLE, "norms-unavailable", "Norms unavailable", shown(), None, Some(1), Log::Error),
             Error::StoreUnavailable(_) => (503, UNAVAILABLE, "store-unavailable", "Norm store unavailable", shown(), None, Some(1), Log::Error),

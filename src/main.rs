@@ -17,7 +17,7 @@ use scruple::core::{
     MAX_LEASE_MS, RequestLimits,
 };
 use scruple::engine::term::{MAX_DEPTH, MAX_LEN, TermLimits};
-use scruple::offline::{self, Failure, Sources, Summary};
+use scruple::offline::{self, Failure, Sources, Summary, emit};
 use scruple::transport::admission::{
     AdmissionConfig, DEFAULT_MAX_CONCURRENT, DEFAULT_MAX_QUEUED, DEFAULT_QUEUE_TIMEOUT_MS,
 };
@@ -81,10 +81,65 @@ struct SourceArgs {
     /// norms; without either, there are none.
     #[arg(long, value_name = "FILE")]
     norms: Option<PathBuf>,
-    /// A store to read norms and verbs from (`sqlite://PATH`, which must exist; an older one is
-    /// migrated). Without it: the default action library.
+    /// A store to read norms and verbs from (`sqlite://PATH` or `postgres://…`, which must
+    /// already hold one; an older one is migrated). Without it: the default action library.
     #[arg(long, value_name = "URL")]
     database_url: Option<String>,
+}
+
+/// The limits a request is held to: the service's, with its flags, variables and defaults, so
+/// that an offline answer is the one the server would give (or the problem it would answer).
+#[derive(Args)]
+struct LimitArgs {
+    /// Largest request body (REST) or message (gRPC) accepted, in bytes; larger ones get 413.
+    /// Offline: the largest request file, replay line or norms file.
+    #[arg(long, env = "SCRUPLE_MAX_BODY_BYTES", default_value_t = DEFAULT_MAX_BODY_BYTES,
+          value_parser = clap::value_parser!(u64).range(1..).map(|n| usize::try_from(n).unwrap_or(usize::MAX)))]
+    max_body_bytes: usize,
+    /// Most objects in one scene; more is a 422 at /scene/objects.
+    #[arg(long, env = "SCRUPLE_MAX_OBJECTS", default_value_t = DEFAULT_MAX_OBJECTS)]
+    max_objects: usize,
+    /// Deepest nesting of a term in a request (1..=128); deeper is a 422 naming the field.
+    #[arg(long, env = "SCRUPLE_MAX_TERM_DEPTH", default_value_t = MAX_DEPTH,
+          value_parser = clap::value_parser!(u16).range(1..=128).map(usize::from))]
+    max_term_depth: usize,
+    /// Longest term text in a request, bytes (16..=65536); longer is a 422 naming the field.
+    #[arg(long, env = "SCRUPLE_MAX_TERM_LENGTH", default_value_t = MAX_LEN,
+          value_parser = clap::value_parser!(u32).range(16..=65_536).map(|n| n as usize))]
+    max_term_length: usize,
+    /// Decision deadline when a request names none (`options.deadline_ms`), milliseconds.
+    #[arg(long, env = "SCRUPLE_DEADLINE_MS", default_value_t = DEFAULT_DEADLINE_MS)]
+    deadline_ms: u64,
+    /// Longest `options.deadline_ms` a request may ask for, milliseconds.
+    #[arg(long, env = "SCRUPLE_MAX_DEADLINE_MS", default_value_t = DEFAULT_MAX_DEADLINE_MS)]
+    max_deadline_ms: u64,
+    /// Longest human's words a directive may carry in `text`, bytes; longer is a 422.
+    #[arg(long, env = "SCRUPLE_MAX_TEXT_BYTES", default_value_t = DEFAULT_MAX_TEXT_BYTES)]
+    max_text_bytes: usize,
+}
+
+impl LimitArgs {
+    fn limits(&self) -> Result<offline::Limits, String> {
+        if !(1..=self.max_deadline_ms).contains(&self.deadline_ms) {
+            return Err(format!(
+                "--deadline-ms {} must be within 1..=--max-deadline-ms ({})",
+                self.deadline_ms, self.max_deadline_ms
+            ));
+        }
+        Ok(offline::Limits {
+            max_body_bytes: self.max_body_bytes,
+            request: RequestLimits {
+                max_objects: self.max_objects,
+                terms: TermLimits {
+                    depth: self.max_term_depth,
+                    len: self.max_term_length,
+                },
+                default_deadline_ms: self.deadline_ms,
+                max_deadline_ms: self.max_deadline_ms,
+                max_text_bytes: self.max_text_bytes,
+            },
+        })
+    }
 }
 
 #[derive(Args)]
@@ -93,6 +148,8 @@ struct ClarifyArgs {
     file: PathBuf,
     #[command(flatten)]
     sources: SourceArgs,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 #[derive(Args)]
@@ -113,68 +170,84 @@ struct ReplayArgs {
     /// The norms in force, for `--diff`, as a norms file.
     #[arg(long, value_name = "FILE", requires = "diff")]
     baseline_norms: Option<PathBuf>,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
+    let limits = args.limits.limits().map_err(|detail| Failure::Usage { detail })?;
     let sources = Sources::open(args.sources.database_url.as_deref()).await?;
-    let knowledge = sources.knowledge(args.sources.norms.as_deref()).await?;
-    let answer = offline::clarify_file(&args.file, knowledge).await?;
+    let knowledge = sources
+        .knowledge(args.sources.norms.as_deref(), limits.max_body_bytes)
+        .await?;
+    let answer = offline::clarify_file(&args.file, knowledge, &limits).await?;
     let text = serde_json::to_string_pretty(&answer).map_err(|e| Failure::Run { detail: e.to_string() })?;
-    println!("{text}");
-    Ok(())
+    emit(&format!("{text}\n"))
 }
 
-/// What a replay made: its summary, and its answers when asked to keep them (for `--diff`).
+/// What a replay made: its summary (of the answers under the first knowledge), and its answers
+/// under each knowledge when asked to keep them (for `--diff`: the proposed norms', then the
+/// baseline's).
 struct Replayed {
     summary: Summary,
-    answers: Vec<offline::Answer>,
+    answers: Vec<Vec<offline::Answer>>,
 }
 
-/// Runs a replay, with a counter on stderr when a person is watching. Each answer is written to
-/// `out` (a file, by its path) as a JSON line, in line order, while later lines are still being
-/// decided; the answers are kept only when `keep`. Fails with the first error writing `out`
+/// Runs a replay under each of `knowledge` in one pass over the input, with a counter on stderr
+/// when a person is watching. Each answer under the first is written to `out` (a file, by its
+/// path) as a JSON line, in line order, while later lines are still being decided; the answers
+/// are kept only when `keep`. Fails with the first error reading the input or writing `out`
 /// (the replay still runs to its end, so the failure comes with nothing half-decided).
 fn replay_with_progress(
-    lines: &[offline::Line<'_>],
-    knowledge: offline::Knowledge,
-    label: &str,
+    lines: &mut offline::Lines,
+    file: &Path,
+    knowledge: &[offline::Knowledge],
+    limits: &offline::Limits,
     mut out: Option<(&Path, &mut dyn Write)>,
     keep: bool,
 ) -> Result<Replayed, Failure> {
-    let total = lines.len();
     let watching = std::io::stderr().is_terminal();
-    // About a hundred updates however long the batch: a terminal is slow to redraw.
-    let every = (total / 100).max(1);
+    // The count is not known before the end: every hundredth line, as a terminal is slow to
+    // redraw.
     let progress = |done: usize| {
-        if watching && (done.is_multiple_of(every) || done == total) {
-            eprint!("\r{label}: {done}/{total}");
+        if watching && done.is_multiple_of(100) {
+            let _ = write!(std::io::stderr(), "\rreplayed: {done}");
         }
     };
     let writing = out.is_some();
     // On the worker that decided them: the lines' counts, their JSON and (when kept) themselves.
-    let each = |answers: Vec<offline::Answer>| {
-        let summary = Summary::of(&answers);
-        let text = writing.then(|| offline::jsonl(&answers));
+    let each = |answers: Vec<Vec<offline::Answer>>| {
+        let first = answers.first().map_or(&[][..], Vec::as_slice);
+        let summary = Summary::of(first);
+        let text = writing.then(|| offline::jsonl(first));
         (summary, text, if keep { answers } else { Vec::new() })
     };
     let mut replayed = Replayed {
         summary: Summary::default(),
-        answers: Vec::new(),
+        answers: knowledge.iter().map(|_| Vec::new()).collect(),
     };
     let mut failed = None;
-    let mut then = |(summary, text, answers): (Summary, Option<String>, Vec<offline::Answer>)| {
+    let mut then = |(summary, text, answers): (Summary, Option<String>, Vec<Vec<offline::Answer>>)| {
         replayed.summary.merge(summary);
-        replayed.answers.extend(answers);
+        for (kept, more) in replayed.answers.iter_mut().zip(answers) {
+            kept.extend(more);
+        }
         if let (Some((_, out)), Some(text), None) = (out.as_mut(), text, &failed) {
             failed = out.write_all(text.as_bytes()).err();
         }
     };
     // The replay's threads decide through this runtime; this one only waits for them.
     let runtime = tokio::runtime::Handle::current();
-    tokio::task::block_in_place(|| offline::replay(lines, knowledge, &runtime, &progress, &each, &mut then));
-    if watching && total > 0 {
-        eprintln!();
+    let read = tokio::task::block_in_place(|| {
+        offline::replay(lines, knowledge, limits, &runtime, &progress, &each, &mut then)
+    });
+    if watching {
+        let _ = writeln!(std::io::stderr(), "\rreplayed: {}", replayed.summary.total);
     }
+    read.map_err(|e| Failure::Unreadable {
+        file: file.display().to_string(),
+        detail: e.to_string(),
+    })?;
     if let Some((path, out)) = out {
         failed
             .map_or_else(|| out.flush(), Err)
@@ -191,6 +264,7 @@ fn cannot_write(path: &Path, e: std::io::Error) -> Failure {
 
 /// Returns whether every line was decided.
 async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
+    let limits = args.limits.limits().map_err(|detail| Failure::Usage { detail })?;
     let sources = Sources::open(args.sources.database_url.as_deref()).await?;
     if args.diff && args.baseline_norms.is_none() && !sources.has_store() {
         return Err(Failure::Usage {
@@ -198,9 +272,17 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
                 .to_owned(),
         });
     }
-    let bytes = offline::read_input(&args.file)?;
-    let lines = offline::parse_lines(&bytes);
-    let proposed = sources.knowledge(args.sources.norms.as_deref()).await?;
+    let norms_file = |diffed: bool| match diffed {
+        false => args.sources.norms.as_deref(),
+        true => args.baseline_norms.as_deref(),
+    };
+    // The proposed norms, then for `--diff` the baseline: one pass decides each line under
+    // both, so the input is read once (standard input cannot be read twice).
+    let mut knowledge = Vec::new();
+    for diffed in [false, true].into_iter().take(1 + usize::from(args.diff)) {
+        knowledge.push(sources.knowledge(norms_file(diffed), limits.max_body_bytes).await?);
+    }
+    let mut lines = offline::Lines::open(&args.file, limits.max_body_bytes)?;
     // Made before the replay, so a path that cannot be written fails before the work.
     let mut out = match &args.out {
         Some(path) => Some((
@@ -210,25 +292,26 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
         None => None,
     };
     let out = out.as_mut().map(|(path, file)| (*path, file as &mut dyn Write));
-    let Replayed { summary, answers } = replay_with_progress(&lines, proposed, "replayed", out, args.diff)?;
-    if args.diff {
-        let baseline = sources.knowledge(args.baseline_norms.as_deref()).await?;
-        let before = replay_with_progress(&lines, baseline, "baseline", None, true)?.answers;
-        let changes = offline::diff(&before, &answers);
-        print!("{}", offline::diff_report(&changes, summary.total));
+    let Replayed { summary, answers } =
+        replay_with_progress(&mut lines, &args.file, &knowledge, &limits, out, args.diff)?;
+    if let [after, before] = answers.as_slice() {
+        let changes = offline::diff(before, after);
+        let mut report = offline::diff_report(&changes, summary.total);
         if !summary.errors.is_empty() {
-            println!();
-            print!("{}", summary.errors_report());
+            report.push('\n');
+            report.push_str(&summary.errors_report());
         }
+        emit(&report)?;
     } else {
-        print!("{summary}");
+        emit(&summary.to_string())?;
     }
     Ok(summary.errors.is_empty())
 }
 
-/// The problem goes to stderr as one JSON line, for people and scripts alike.
+/// The problem goes to stderr as one JSON line, for people and scripts alike (unless nobody
+/// reads stderr either).
 fn failed(failure: &Failure) -> ExitCode {
-    eprintln!("{failure}");
+    let _ = writeln!(std::io::stderr(), "{failure}");
     ExitCode::from(failure.exit_code())
 }
 
@@ -263,29 +346,8 @@ struct ServeArgs {
         hide_env_values = true
     )]
     reader_tokens: Vec<LabelledSecret>,
-    /// Largest request body (REST) or message (gRPC) accepted, in bytes; larger ones get 413.
-    #[arg(long, env = "SCRUPLE_MAX_BODY_BYTES", default_value_t = DEFAULT_MAX_BODY_BYTES)]
-    max_body_bytes: usize,
-    /// Most objects in one scene; more is a 422 at /scene/objects.
-    #[arg(long, env = "SCRUPLE_MAX_OBJECTS", default_value_t = DEFAULT_MAX_OBJECTS)]
-    max_objects: usize,
-    /// Deepest nesting of a term in a request (1..=128); deeper is a 422 naming the field.
-    #[arg(long, env = "SCRUPLE_MAX_TERM_DEPTH", default_value_t = MAX_DEPTH,
-          value_parser = clap::value_parser!(u16).range(1..=128).map(usize::from))]
-    max_term_depth: usize,
-    /// Longest term text in a request, bytes (16..=65536); longer is a 422 naming the field.
-    #[arg(long, env = "SCRUPLE_MAX_TERM_LENGTH", default_value_t = MAX_LEN,
-          value_parser = clap::value_parser!(u32).range(16..=65_536).map(|n| n as usize))]
-    max_term_length: usize,
-    /// Decision deadline when a request names none (`options.deadline_ms`), milliseconds.
-    #[arg(long, env = "SCRUPLE_DEADLINE_MS", default_value_t = DEFAULT_DEADLINE_MS)]
-    deadline_ms: u64,
-    /// Longest `options.deadline_ms` a request may ask for, milliseconds.
-    #[arg(long, env = "SCRUPLE_MAX_DEADLINE_MS", default_value_t = DEFAULT_MAX_DEADLINE_MS)]
-    max_deadline_ms: u64,
-    /// Longest human's words a directive may carry in `text`, bytes; longer is a 422.
-    #[arg(long, env = "SCRUPLE_MAX_TEXT_BYTES", default_value_t = DEFAULT_MAX_TEXT_BYTES)]
-    max_text_bytes: usize,
+    #[command(flatten)]
+    limits: LimitArgs,
     /// Requests worked on at once; the next ones queue.
     #[arg(long, env = "SCRUPLE_MAX_CONCURRENT", default_value_t = DEFAULT_MAX_CONCURRENT)]
     max_concurrent: usize,
@@ -329,11 +391,13 @@ struct ServeArgs {
     /// debug). Off by default: they are personal data.
     #[arg(long, env = "SCRUPLE_LOG_UTTERANCES")]
     log_utterances: bool,
-    /// Milliseconds a read of the stored norm and verb versions is trusted before it is read
-    /// again (at most 20 reads a second per process at the default). Every write waits this
-    /// long, and a tenth more, after it commits before it is acknowledged, so a change is still
-    /// seen by every request that starts after its acknowledgement, on every process sharing
-    /// the database. 0 reads them for every request and acknowledges writes at once.
+    /// Milliseconds a read of the stored norm and verb versions is trusted; the first request
+    /// past three quarters of it reads them again (at the default, at most about 27 times a
+    /// second per process). Every write waits the longest lease of any process serving the
+    /// database (each records its own while it serves), and a tenth more (56 ms at the
+    /// default), after it commits before it is acknowledged, so a change is seen by every
+    /// request that starts after its acknowledgement, on every process sharing the database.
+    /// 0 reads them for every request.
     #[arg(long, env = "SCRUPLE_VERSIONS_LEASE_MS", default_value_t = DEFAULT_LEASE_MS,
           value_parser = clap::value_parser!(u64).range(0..=MAX_LEASE_MS))]
     versions_lease_ms: u64,
@@ -404,29 +468,16 @@ impl<S: tracing::Subscriber> Layer<S> for OnEvents {
 
 impl ServeArgs {
     fn into_config(self) -> Result<Config, String> {
-        if !(1..=self.max_deadline_ms).contains(&self.deadline_ms) {
-            return Err(format!(
-                "--deadline-ms {} must be within 1..=--max-deadline-ms ({})",
-                self.deadline_ms, self.max_deadline_ms
-            ));
-        }
+        let limits = self.limits.limits()?;
         Ok(Config {
             listen: self.listen,
             database_url: self.database_url,
-            admin_token: self.admin_token.filter(|t| !t.is_empty()).map(Secret),
+            // Set but empty is refused at start (`Tokens::new`), never taken as unset.
+            admin_token: self.admin_token.map(Secret),
             curator_tokens: self.curator_tokens,
             reader_tokens: self.reader_tokens,
-            max_body_bytes: self.max_body_bytes,
-            limits: RequestLimits {
-                max_objects: self.max_objects,
-                terms: TermLimits {
-                    depth: self.max_term_depth,
-                    len: self.max_term_length,
-                },
-                default_deadline_ms: self.deadline_ms,
-                max_deadline_ms: self.max_deadline_ms,
-                max_text_bytes: self.max_text_bytes,
-            },
+            max_body_bytes: limits.max_body_bytes,
+            limits: limits.request,
             admission: AdmissionConfig {
                 max_concurrent: self.max_concurrent,
                 max_queued: self.max_queued,
@@ -597,12 +648,12 @@ async fn run(Cli { command }: Cli) -> ExitCode {
             Err(failure) => failed(&failure),
         },
         Command::Openapi => match scruple::transport::rest::openapi().to_pretty_json() {
-            Ok(text) => {
-                println!("{text}");
-                ExitCode::SUCCESS
-            }
+            Ok(text) => match emit(&format!("{text}\n")) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(failure) => failed(&failure),
+            },
             Err(e) => {
-                eprintln!("scruple: {e}");
+                let _ = writeln!(std::io::stderr(), "scruple: {e}");
                 ExitCode::FAILURE
             }
         },

@@ -596,3 +596,216 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
         "the answers differ between one core and all"
     );
 }
+
+/// The paper's vase request padded with white space (still valid JSON) to `bytes` bytes.
+fn padded_vase(demo: &Value, bytes: usize) -> String {
+    let mut text = body_of(demo, case_named(demo, "ambiguous, one forbidden state")).to_string();
+    text.insert_str(1, &" ".repeat(bytes.saturating_sub(text.len())));
+    text
+}
+
+/// The service's default `--max-body-bytes`.
+const MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+
+/// Finding: the offline commands had no size limit (a 5 MiB request was decided). They take
+/// the service's limits, with the service's flags and defaults: a request over the body limit
+/// is a 413 problem naming the limit (exit 2), as the server's answer would be; the request
+/// limits (here the words' length) are the server's too.
+#[test]
+fn clarify_holds_a_request_to_the_services_limits() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let big = write(dir.path(), "big.json", &padded_vase(&demo, 5 * 1024 * 1024));
+
+    let output = scruple(&["clarify", s(&big)]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    let problem: Value = serde_json::from_str(stderr(&output).trim()).unwrap();
+    assert_eq!(problem["type"], "/problems/payload-too-large");
+    assert!(
+        problem["detail"]
+            .as_str()
+            .unwrap()
+            .contains(&MAX_BODY_BYTES.to_string()),
+        "{problem}"
+    );
+    assert_eq!(problem["file"], s(&big));
+    assert_eq!(stdout(&output), "");
+
+    let output = scruple(&["clarify", s(&big), "--max-body-bytes", "6000000"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+
+    let vase = write(dir.path(), "vase.json", &padded_vase(&demo, 0));
+    let output = scruple(&["clarify", s(&vase), "--max-text-bytes", "5"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    let problem: Value = serde_json::from_str(stderr(&output).trim()).unwrap();
+    assert_eq!(problem["field"], "/directive/text", "{problem}");
+
+    // From standard input, the same limit, read no further than it.
+    let mut child = support::scruple()
+        .args(["clarify", "-", "--max-body-bytes", "1000"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let fed = feed_zeros(child.stdin.take().unwrap(), 64 * 1024 * 1024);
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(stderr(&output).contains("payload-too-large"), "{}", stderr(&output));
+    assert!(
+        fed.join().unwrap() < 64 * 1024 * 1024,
+        "it read to the end of an endless input"
+    );
+}
+
+/// Writes up to `bound` zero bytes to `input` on a thread of its own, until the reader stops
+/// reading; the count written.
+fn feed_zeros(mut input: std::process::ChildStdin, bound: usize) -> std::thread::JoinHandle<usize> {
+    use std::io::Write;
+    std::thread::spawn(move || {
+        let block = vec![0u8; 64 * 1024];
+        let mut written = 0;
+        while written < bound {
+            match input.write(&block) {
+                Ok(n) => written += n,
+                Err(_) => break,
+            }
+        }
+        written
+    })
+}
+
+/// Finding: `replay /dev/zero` grew until the allocator failed, reading one endless line into
+/// memory. A line is read no further than the body limit: a longer one is an error naming its
+/// line and the limit, the lines before it are decided, and the replay ends there (an endless
+/// line has no next line to go on with), exit 2.
+#[test]
+fn replay_reads_no_line_past_the_body_limit() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let vase = padded_vase(&demo, 0);
+    let text = format!("{vase}\n\n{}\n{vase}\n", padded_vase(&demo, 5 * 1024 * 1024));
+    let jsonl = write(dir.path(), "long.jsonl", &text);
+    let out = dir.path().join("answers.jsonl");
+
+    let output = scruple(&["replay", s(&jsonl), "--out", s(&out)]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    let summary = stdout(&output);
+    assert!(summary.starts_with("2 requests: 1 decided, 1 error\n"), "{summary}");
+    assert!(
+        summary.contains(&format!(
+            "line 3: the line is longer than the limit of {MAX_BODY_BYTES} bytes"
+        )),
+        "{summary}"
+    );
+    let answers: Vec<Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers.len(), 2);
+    assert_eq!(answers[0]["decision"]["decision"], "ask");
+    assert_eq!(answers[1]["line"], 3);
+    assert_eq!(answers[1]["error"]["type"], "/problems/payload-too-large");
+
+    // Raised, the same file is decided whole.
+    let output = scruple(&["replay", s(&jsonl), "--max-body-bytes", "6000000"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stdout(&output).starts_with("3 requests: 3 decided, 0 errors\n"));
+
+    // An endless line of zeros, from standard input: read up to the limit, then reported.
+    let mut child = support::scruple()
+        .args(["replay", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let fed = feed_zeros(child.stdin.take().unwrap(), 128 * 1024 * 1024);
+    let output = child.wait_with_output().unwrap();
+    assert!(fed.join().unwrap() < 64 * 1024 * 1024, "it read far past the limit");
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("line 1: the line is longer than the limit"),
+        "{}",
+        stdout(&output)
+    );
+}
+
+/// Finding: `replay` printed a line's `condition` as written, so escape sequences in a replay
+/// file reached the terminal. What the reports print of a line's text (condition, id, words)
+/// shows control and direction characters escaped; `--out` keeps them as JSON does.
+#[test]
+fn replay_reports_show_control_characters_escaped() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let body = body_of(&demo, case_named(&demo, "ambiguous, one forbidden state"));
+    let mut titled = body.clone();
+    titled["directive"]["action"] = json!("\u{1b}]0;x\u{7}");
+    let text = [
+        json!({"id": "i\u{1b}[2J", "condition": "\u{1b}[31mred\u{7}", "request": body}),
+        json!({"id": "rtl", "condition": "a\u{202e}b", "request": titled}),
+    ]
+    .map(|l| l.to_string())
+    .join("\n");
+    let jsonl = write(dir.path(), "escapes.jsonl", &text);
+    let norms = paper_norms(dir.path(), &demo);
+    let out = dir.path().join("answers.jsonl");
+    let output = scruple(&["replay", s(&jsonl), "--out", s(&out)]);
+    let summary = stdout(&output);
+    for shown in [&summary, &stderr(&output)] {
+        assert!(
+            !shown.contains('\u{1b}') && !shown.contains('\u{7}') && !shown.contains('\u{202e}'),
+            "{shown:?}"
+        );
+    }
+    assert!(summary.contains("\\u{1b}[31mred\\u{7}"), "{summary}");
+    assert!(summary.contains("a\\u{202e}b"), "{summary}");
+    let answers = std::fs::read_to_string(&out).unwrap();
+    let first: Value = serde_json::from_str(answers.lines().next().unwrap()).unwrap();
+    assert_eq!(
+        first["condition"], "\u{1b}[31mred\u{7}",
+        "--out keeps the text as written"
+    );
+
+    let proposed = write(dir.path(), "none.json", "[]");
+    let output = replay_diff(&jsonl, &proposed, &norms);
+    assert!(!stdout(&output).contains('\u{1b}'), "{}", stdout(&output));
+    assert!(stdout(&output).contains("(i\\u{1b}[2J)"), "{}", stdout(&output));
+}
+
+/// Finding: `scruple openapi | head` and `scruple clarify … | head` panicked when the reader
+/// went away. A reader that leaves is not a failure of the command: it stops writing quietly,
+/// with the status it would have had.
+#[test]
+fn a_reader_that_goes_away_ends_the_output_quietly() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let vase = write(dir.path(), "vase.json", &padded_vase(&demo, 0));
+    let jsonl = write(dir.path(), "cases.jsonl", &demo_jsonl(&demo));
+    let norms = paper_norms(dir.path(), &demo);
+    for args in [
+        vec!["openapi"],
+        vec!["clarify", s(&vase)],
+        vec!["replay", s(&jsonl), "--norms", s(&norms)],
+    ] {
+        let mut child = support::scruple()
+            .args(&args)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The reader is gone before anything is written.
+        drop(child.stdout.take());
+        let output = child.wait_with_output().unwrap();
+        assert_eq!(
+            output.status.code(),
+            Some(0),
+            "{args:?}: {:?} {}",
+            output.status,
+            stderr(&output)
+        );
+        assert_eq!(stderr(&output), "", "{args:?}");
+    }
+}

@@ -525,6 +525,19 @@ async fn the_probes_answer_on_the_real_binary_run_with_the_deployed_settings() {
     for kind in ["ConfigMap", "Secret"] {
         env.extend(entries(the(&objects, kind)));
     }
+    // The Secret's values are placeholders an operator replaces. The admin token's is refused as
+    // it stands (under 16 bytes), so a deploy that forgets to replace it does not start with a
+    // token anyone could guess; the run stands a token of the length asked in its place.
+    let token = env.insert(
+        "SCRUPLE_ADMIN_TOKEN".to_owned(),
+        "a-stand-in-for-openssl-rand-hex-32".to_owned(),
+    );
+    assert!(
+        token
+            .as_deref()
+            .is_some_and(|t| t.contains("REPLACE_ME") && t.len() < 16),
+        "the Secret's admin token should be a placeholder the binary refuses: {token:?}"
+    );
     let dir = tempfile::tempdir().unwrap();
     let server = serve(&env, dir.path());
 

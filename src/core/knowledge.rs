@@ -1,6 +1,7 @@
 //! What a decision is made under, and how current it is: the store's norms and verbs, compiled
 //! and cached by version, trusted for a lease between reads of the stored versions; writes wait
-//! the lease out before they are acknowledged; readiness is the outcome of the last read.
+//! out the longest lease of any process serving the store before they are acknowledged;
+//! readiness is the outcome of the last read.
 //!
 //! Must not: decide, or answer a write before every process's lease taken before it has run out.
 
@@ -14,8 +15,9 @@ use crate::error::Error;
 use crate::metrics::{Cache, Metrics, Outcome};
 use crate::storage::{NormStore, Write};
 
-/// Default for `--versions-lease-ms`: the stored versions are read at most 20 times a second
-/// per process, and a write is acknowledged about 55 ms after it commits.
+/// Default for `--versions-lease-ms`: the stored versions are read again by the first request
+/// past three quarters of the lease, so at most about 27 times a second per process, and a
+/// write is acknowledged 56 ms (the lease and [`lease_margin`]) after it commits.
 pub const DEFAULT_LEASE_MS: u64 = 50;
 /// The longest lease `--versions-lease-ms` takes: every write waits this long.
 pub const MAX_LEASE_MS: u64 = 10_000;
@@ -324,15 +326,34 @@ impl Core {
 
     /// Answers a write that has committed once no process can still be trusting a lease taken
     /// before the commit: this one's is dropped at once, every other's runs out within the
-    /// lease, so any request that starts after the answer reads what was written.
+    /// longest lease any process serving the store records (this one's among them), so any
+    /// request that starts after the answer reads what was written, whichever process it
+    /// reaches and whatever lease that process was started with.
     pub(super) async fn settled<T>(&self, written: T) -> T {
         if let Ok(mut lease) = self.lease.write() {
             *lease = None;
         }
-        if !self.settings.lease.is_zero() {
-            tokio::time::sleep(self.settings.lease + lease_margin(self.settings.lease)).await;
+        let longest = self.longest_lease().await;
+        if !longest.is_zero() {
+            tokio::time::sleep(longest + lease_margin(longest)).await;
         }
         written
+    }
+
+    /// The longest lease of any process serving the store, read after the commit: a process
+    /// that recorded its lease before this read is counted, and one that records it later
+    /// reads the versions for the first time after the commit. A record that cannot be read
+    /// counts as the longest lease a process may have, so that the wait is never too short.
+    async fn longest_lease(&self) -> Duration {
+        let own = self.settings.lease;
+        let Source::Store(store) = &self.source else { return own };
+        match store.longest_lease().await {
+            Ok(longest) => longest.max(own),
+            Err(e) => {
+                tracing::warn!(error = %e, "the leases recorded in the store cannot be read: the write waits the longest any process may have");
+                own.max(Duration::from_millis(MAX_LEASE_MS))
+            }
+        }
     }
 
     /// [`Core::settled`] for a write that may not have happened: only one that did waits.

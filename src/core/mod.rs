@@ -32,6 +32,11 @@ use crate::error::Error;
 use crate::metrics::Metrics;
 use crate::storage::{AuditEntry, NormStore, StoredAction, Write};
 
+/// Default for `--max-body-bytes`: the largest request body (REST), message (gRPC) or offline
+/// input (a `clarify` file, a `replay` line, a norms file); generous for scenes of thousands of
+/// objects.
+pub const DEFAULT_MAX_BODY_BYTES: usize = 4 * 1024 * 1024;
+
 /// What one request may ask, whether the human's words may be logged, and how long the stored
 /// versions are trusted.
 #[derive(Clone, Copy, Debug)]
@@ -504,8 +509,19 @@ impl Core {
         Ok((written, self.settled(created).await))
     }
 
+    /// Removes a verb, unless another verb calls it in a method (409, naming them: they, and
+    /// every reading that uses them, would fail at that step); judged and removed in one
+    /// transaction.
     pub async fn delete_action(&self, name: &str, actor: &str) -> Result<(), Error> {
-        if self.store()?.delete_action(name, actor).await? {
+        let this = name.to_owned();
+        let accept = move |rest: &[StoredAction]| match callers_of(rest, &this).as_slice() {
+            [] => Ok(()),
+            callers => Err(Error::VerbInUse {
+                verb: this.clone(),
+                callers: listed(callers),
+            }),
+        };
+        if self.store()?.delete_action(name, &accept, actor).await?? {
             self.settled(()).await;
             Ok(())
         } else {
@@ -568,6 +584,28 @@ pub fn validate_norm_set(inputs: Vec<(Option<i64>, NormInput)>) -> Result<Vec<(O
         norms.push((id, spec));
     }
     Ok(norms)
+}
+
+/// The verbs, by name, whose methods call a verb named `name` (of any arity): those removing
+/// it would leave failing at that step. A definition that does not validate calls nothing (a
+/// library holding it fails closed anyway).
+fn callers_of(verbs: &[StoredAction], name: &str) -> Vec<String> {
+    let calls = |(verb, input): &&StoredAction| {
+        verb != name
+            && input
+                .validate(verb)
+                .is_ok_and(|def| def.callees().any(|(callee, _)| &*callee == name))
+    };
+    verbs.iter().filter(calls).map(|(verb, _)| verb.clone()).collect()
+}
+
+/// Names as a sentence lists them: "`put`", "`put` and `fetch`", "`a`, `b` and `c`".
+fn listed(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    match quoted.as_slice() {
+        [init @ .., last] if !init.is_empty() => format!("{} and {last}", init.join(", ")),
+        _ => quoted.concat(),
+    }
 }
 
 /// How a conditional write on norm `id` ends for the caller.

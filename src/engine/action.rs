@@ -93,7 +93,7 @@ impl ActionDef {
     }
 
     /// The verbs this one's steps call, by name and arity.
-    fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
+    pub fn callees(&self) -> impl Iterator<Item = (Sym, usize)> + '_ {
         self.methods.iter().flat_map(|m| {
             m.steps.iter().filter_map(|s| match s {
                 Step::Do(t) => t.name().map(|n| (n.clone(), t.arity())),

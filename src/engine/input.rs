@@ -39,6 +39,33 @@ pub fn pointer_segment(key: &str) -> String {
     key.replace('~', "~0").replace('/', "~1")
 }
 
+/// Whether a character changes a screen or a voice rather than showing on it: a control
+/// character (NUL, ESC, BEL, ...), a zero-width or invisible one, or one that turns the
+/// direction of the text (U+202E).
+pub fn is_unseen(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2060}'..='\u{2069}'
+            | '\u{061c}' | '\u{feff}')
+}
+
+/// `text` with each character of [`is_unseen`] written as `\u{..}`: for echoing what someone
+/// sent in words meant for a person (an error's detail, a report on a terminal), so that it
+/// shows what was sent and does nothing to the screen.
+pub fn escape_unseen(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(is_unseen) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut shown = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if is_unseen(c) {
+            shown.push_str(&format!("\\u{{{:x}}}", u32::from(c)));
+        } else {
+            shown.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(shown)
+}
+
 /// A phrase as words are matched: lower case, one space between words.
 pub fn normalise_phrase(text: &str) -> String {
     text.split_whitespace()

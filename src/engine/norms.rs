@@ -4,7 +4,7 @@
 //! action name and by fact functor and the two checks (an action about to be done; the facts a
 //! step made true). Must not: read the database or know which transport asked.
 
-use super::input::{Invalid, Spelled};
+use super::input::{Invalid, Spelled, escape_unseen};
 use super::term::Term;
 
 mod compiled;
@@ -126,14 +126,32 @@ pub fn normalise_name(text: &str) -> String {
     out
 }
 
+/// Whether a normalised context or role name is made only of what a person can read and type
+/// again: ASCII letters, digits, `_` and `-`. One rule for contexts and roles alike: a name
+/// holding an invisible, control or direction character ("ward" + U+200B) would be stored and
+/// then meet no request anyone could write, a norm that silently applies nowhere.
+fn is_plain_name(name: &str) -> bool {
+    name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 /// A context as norms and requests carry it: normalised (see [`normalise_name`]), 1 to
-/// [`MAX_CONTEXT_LEN`] bytes; the fault is named `/context`.
+/// [`MAX_CONTEXT_LEN`] bytes of the characters a role name may hold ([`is_plain_name`]); the
+/// fault is named `/context`.
 pub fn context_name(text: &str) -> Result<String, Invalid> {
     let context = normalise_name(text);
     if context.is_empty() || context.len() > MAX_CONTEXT_LEN {
         return Err(Invalid::new(
             "/context",
             format!("must be 1 to {MAX_CONTEXT_LEN} bytes long"),
+        ));
+    }
+    if !is_plain_name(&context) {
+        return Err(Invalid::new(
+            "/context",
+            format!(
+                "`{}` is not a context name (letters, digits, `_`, `-`)",
+                escape_unseen(text)
+            ),
         ));
     }
     Ok(context)
@@ -309,8 +327,9 @@ impl NormInput {
 
 pub const MAX_ROLES: usize = 16;
 
-/// Role names are short words: letters, digits, `_`, `-`; at most [`MAX_ROLES`] of them. Used
-/// for a norm's roles and for a request's speaker roles alike.
+/// Role names are short words: letters, digits, `_`, `-` (the rule contexts follow,
+/// [`is_plain_name`]); at most [`MAX_ROLES`] of them. Used for a norm's roles and for a
+/// request's speaker roles alike.
 pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<String>, Invalid> {
     let given = roles.unwrap_or_default();
     if given.len() > MAX_ROLES {
@@ -320,13 +339,14 @@ pub fn validate_roles(field: &str, roles: Option<Vec<String>>) -> Result<Vec<Str
     let mut roles: Vec<String> = Vec::with_capacity(given.len());
     for (i, text) in given.iter().enumerate() {
         let role = normalise_name(text);
-        let valid = !role.is_empty()
-            && role.len() <= MAX_CONTEXT_LEN
-            && role.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        let valid = !role.is_empty() && role.len() <= MAX_CONTEXT_LEN && is_plain_name(&role);
         if !valid {
             return Err(Invalid::new(
                 format!("{field}/{i}"),
-                format!("`{text}` is not a role name (letters, digits, `_`, `-`)"),
+                format!(
+                    "`{}` is not a role name (letters, digits, `_`, `-`)",
+                    escape_unseen(text)
+                ),
             ));
         }
         if !roles.contains(&role) {

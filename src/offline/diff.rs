@@ -4,6 +4,7 @@
 use std::collections::BTreeSet;
 
 use super::Answer;
+use crate::engine::input::escape_unseen;
 
 /// A request whose decision kind or utterance differs between two norm sets.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -64,10 +65,13 @@ fn listed(norms: &[(i64, String)]) -> String {
 pub fn diff_report(changes: &[Change], total: usize) -> String {
     let mut out = String::new();
     for c in changes {
-        let id = c.id.as_deref().map(|id| format!(" ({id})")).unwrap_or_default();
+        // The file's text and the words said of it, shown escaped: a report goes to a terminal.
+        let id = (c.id.as_deref())
+            .map(|id| format!(" ({})", escape_unseen(id)))
+            .unwrap_or_default();
         out.push_str(&format!("line {}{id}: {} → {}\n", c.line, c.before_kind, c.after_kind));
-        out.push_str(&format!("  before: {}\n", c.before));
-        out.push_str(&format!("  after:  {}\n", c.after));
+        out.push_str(&format!("  before: {}\n", escape_unseen(&c.before)));
+        out.push_str(&format!("  after:  {}\n", escape_unseen(&c.after)));
         if !c.soft_added.is_empty() {
             out.push_str(&format!("  ranked by soft {}\n", listed(&c.soft_added)));
         }

@@ -9,7 +9,7 @@ use crate::core::{Core, Settings, norm_to_create, validate_norm_set};
 use crate::engine::Library;
 use crate::engine::norms::{CompiledNorms, Norm, NormSpec};
 use crate::error::Error;
-use crate::storage::SqliteStore;
+use crate::storage::{self, NormStore, PostgresStore, SqliteStore};
 use crate::wire::{NormBody, NormSetBody, parse_json};
 
 /// The version a freshly migrated store gives the default library: offline answers without a
@@ -24,23 +24,37 @@ pub struct Sources {
 }
 
 impl Sources {
-    /// Opens the store at `database_url`, which must already exist: a store created here would
-    /// be empty and silently decide under no norms. Opening migrates an older store.
+    /// Opens the store at `database_url` (a SQLite file, or a PostgreSQL database as the server
+    /// opens it), which must already hold a store: one created here would be empty and
+    /// silently decide under no norms. Opening migrates an older store.
     pub async fn open(database_url: Option<&str>) -> Result<Sources, Failure> {
         let Some(url) = database_url else {
             return Ok(Sources { store: None });
         };
-        if let Some(path) = sqlite_file(url)
-            && !path.exists()
-        {
-            return Err(Failure::Usage {
-                detail: format!("no database at `{}` (from --database-url {url})", path.display()),
-            });
-        }
-        let store = SqliteStore::open(url)
-            .await
-            .map_err(|e| Failure::Run { detail: e.to_string() })?;
-        let core = Core::new(Arc::new(store), Arc::default(), Settings::default());
+        let run = |e: crate::storage::StoreError| Failure::Run { detail: e.to_string() };
+        let store: Arc<dyn NormStore> = if storage::is_postgres(url) {
+            match PostgresStore::open_existing(url).await.map_err(run)? {
+                Some(store) => Arc::new(store),
+                // The URL may carry a password: it is not repeated.
+                None => {
+                    return Err(Failure::Usage {
+                        detail: "no Scruple store in the PostgreSQL database of --database-url (it has no norm \
+                                 set): serve it once with `scruple serve`, or name the database that holds one"
+                            .to_owned(),
+                    });
+                }
+            }
+        } else {
+            if let Some(path) = sqlite_file(url)
+                && !path.exists()
+            {
+                return Err(Failure::Usage {
+                    detail: format!("no database at `{}` (from --database-url {url})", path.display()),
+                });
+            }
+            Arc::new(SqliteStore::open(url).await.map_err(run)?)
+        };
+        let core = Core::new(store, Arc::default(), Settings::default());
         Ok(Sources { store: Some(core) })
     }
 
@@ -48,9 +62,9 @@ impl Sources {
         self.store.is_some()
     }
 
-    /// The norms of `norms_file` when given, else the store's, else none (version 0); with the
-    /// store's library, else the default one.
-    pub async fn knowledge(&self, norms_file: Option<&Path>) -> Result<Knowledge, Failure> {
+    /// The norms of `norms_file` (at most `limit` bytes) when given, else the store's, else
+    /// none (version 0); with the store's library, else the default one.
+    pub async fn knowledge(&self, norms_file: Option<&Path>, limit: usize) -> Result<Knowledge, Failure> {
         let stored = match &self.store {
             Some(core) => Some(core.knowledge().await.map_err(|e| Failure::Run {
                 detail: e.problem().detail,
@@ -66,7 +80,7 @@ impl Sources {
             }
         };
         let norms = match (norms_file, stored) {
-            (Some(path), _) => Arc::new(norms_from_file(path)?),
+            (Some(path), _) => Arc::new(norms_from_file(path, limit)?),
             (None, Some(k)) => k.norms,
             (None, None) => Arc::new(CompiledNorms::compile(0, Vec::new())),
         };
@@ -84,10 +98,11 @@ fn sqlite_file(url: &str) -> Option<&Path> {
     Some(Path::new(path))
 }
 
-/// Reads a norms file: a JSON list of norms as `POST /v1/norms` takes them, or a norm set as
-/// `GET /v1/norm-set` gives it. Numbered as the server would number them on an empty store.
-pub fn norms_from_file(path: &Path) -> Result<CompiledNorms, Failure> {
-    let bytes = read_input(path)?;
+/// Reads a norms file of at most `limit` bytes: a JSON list of norms as `POST /v1/norms` takes
+/// them, or a norm set as `GET /v1/norm-set` gives it. Numbered as the server would number them
+/// on an empty store.
+pub fn norms_from_file(path: &Path, limit: usize) -> Result<CompiledNorms, Failure> {
+    let bytes = read_input(path, limit)?;
     norms_from_bytes(&bytes).map_err(|error| Failure::Input {
         file: path.display().to_string(),
         error,

@@ -3,10 +3,11 @@
 //! batch (`replay --diff`).
 //!
 //! Owns: the CLI's failures and how they are reported, and each command's files and formats
-//! (`knowledge`: norms and verbs; `replay`: lines, answers, summary; `diff`). Must not: write
-//! norms or verbs (opening a store only migrates it), listen on a port, or decide anything
-//! itself: every decision is `Core::clarify` over fixed knowledge, under the default limits,
-//! with the response body `POST /v1/clarify` gives.
+//! (`knowledge`: norms and verbs; `replay`: lines, answers, summary; `diff`), read no further
+//! than the body limit. Must not: write norms or verbs (opening a store only migrates it),
+//! listen on a port, print a file's text unescaped to a terminal, or decide anything itself:
+//! every decision is `Core::clarify` over fixed knowledge, under the service's limits, with the
+//! response body `POST /v1/clarify` gives.
 
 mod diff;
 mod knowledge;
@@ -20,13 +21,32 @@ use std::time::Instant;
 use serde::Serialize;
 
 pub use crate::core::Knowledge;
-use crate::core::{Core, Settings};
+use crate::core::{Core, DEFAULT_MAX_BODY_BYTES, RequestLimits, Settings};
 use crate::error::Error;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
 pub use diff::{Change, diff, diff_report};
 pub use knowledge::{Sources, norms_from_bytes, norms_from_file};
-pub use replay::{Answer, Line, NO_CONDITION, Summary, jsonl, parse_lines, replay};
+pub use replay::{Answer, Line, Lines, NO_CONDITION, Summary, jsonl, replay};
+
+/// The limits an offline decision is held to: the service's, set by the same flags.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// The largest request (a `clarify` file, a `replay` line) or norms file, in bytes.
+    pub max_body_bytes: usize,
+    /// What one request may ask.
+    pub request: RequestLimits,
+}
+
+impl Default for Limits {
+    /// The service's defaults.
+    fn default() -> Self {
+        Limits {
+            max_body_bytes: DEFAULT_MAX_BODY_BYTES,
+            request: RequestLimits::default(),
+        }
+    }
+}
 
 /// What a run of the CLI failed on, and where.
 #[derive(Debug)]
@@ -111,18 +131,42 @@ impl fmt::Display for Failure {
     }
 }
 
-/// A file's bytes; `-` is standard input.
-pub fn read_input(path: &Path) -> Result<Vec<u8>, Failure> {
+/// A file's bytes, `-` standard input, read no further than `limit` bytes: a longer one is
+/// the problem a server answers a body over its limit with (413), naming the file.
+pub fn read_input(path: &Path, limit: usize) -> Result<Vec<u8>, Failure> {
+    let file = path.display().to_string();
     let unreadable = |e: std::io::Error| Failure::Unreadable {
-        file: path.display().to_string(),
+        file: file.clone(),
         detail: e.to_string(),
     };
-    if path == Path::new("-") {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes).map_err(unreadable)?;
-        Ok(bytes)
+    let most = u64::try_from(limit).unwrap_or(u64::MAX).saturating_add(1);
+    let mut bytes = Vec::new();
+    let read = if path == Path::new("-") {
+        std::io::Read::read_to_end(&mut std::io::Read::take(std::io::stdin().lock(), most), &mut bytes)
     } else {
-        std::fs::read(path).map_err(unreadable)
+        let opened = std::fs::File::open(path).map_err(unreadable)?;
+        std::io::Read::read_to_end(&mut std::io::Read::take(opened, most), &mut bytes)
+    };
+    read.map_err(unreadable)?;
+    if bytes.len() > limit {
+        return Err(Failure::Input {
+            file,
+            error: Error::PayloadTooLarge { limit },
+        });
+    }
+    Ok(bytes)
+}
+
+/// Writes a command's output to standard output. A reader that has gone away (`| head`) is no
+/// failure of the command: the rest is dropped quietly, and the command ends with the status it
+/// would have had.
+pub fn emit(text: &str) -> Result<(), Failure> {
+    let mut stdout = std::io::stdout().lock();
+    match std::io::Write::write_all(&mut stdout, text.as_bytes()).and_then(|()| std::io::Write::flush(&mut stdout)) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::Run {
+            detail: format!("cannot write the standard output: {e}"),
+        }),
+        _ => Ok(()),
     }
 }
 
@@ -137,18 +181,22 @@ pub async fn decide(body: ClarifyBody, core: &Core) -> Result<DecisionDto, Error
     Ok(DecisionDto::new(&decision, text))
 }
 
-/// A core that decides under `knowledge` with the server's default limits.
-pub fn core_over(knowledge: Knowledge) -> Arc<Core> {
-    Arc::new(Core::fixed(knowledge, Settings::default()))
+/// A core that decides under `knowledge` with the service's request limits.
+pub fn core_over(knowledge: Knowledge, limits: &Limits) -> Arc<Core> {
+    let settings = Settings {
+        limits: limits.request,
+        ..Settings::default()
+    };
+    Arc::new(Core::fixed(knowledge, settings))
 }
 
-/// `scruple clarify FILE`: one request body, as `POST /v1/clarify` takes it.
-pub async fn clarify_file(path: &Path, knowledge: Knowledge) -> Result<DecisionDto, Failure> {
-    let bytes = read_input(path)?;
+/// `scruple clarify FILE`: one request body, as `POST /v1/clarify` takes it, within the limits.
+pub async fn clarify_file(path: &Path, knowledge: Knowledge, limits: &Limits) -> Result<DecisionDto, Failure> {
+    let bytes = read_input(path, limits.max_body_bytes)?;
     let input = |error| Failure::Input {
         file: path.display().to_string(),
         error,
     };
     let body = parse_json(&bytes).map_err(input)?;
-    decide(body, &core_over(knowledge)).await.map_err(input)
+    decide(body, &core_over(knowledge, limits)).await.map_err(input)
 }

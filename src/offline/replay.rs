@@ -1,14 +1,18 @@
-//! `scruple replay`: the line format, deciding every line, the answers and the summary.
+//! `scruple replay`: the line format, reading lines within the body limit, deciding every line,
+//! the answers and the summary (what it prints of a line's text escaped, see `escape_unseen`).
 
 use std::collections::BTreeMap;
 use std::fmt;
+use std::io::BufRead;
+use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
 
-use super::{Knowledge, core_over, decide};
+use super::{Failure, Knowledge, Limits, core_over, decide};
 use crate::core::Core;
-use crate::error::Problem;
+use crate::engine::input::escape_unseen;
+use crate::error::{Error, Problem};
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
 /// One request of a replay file, wrapped to carry a label and an experimental condition.
@@ -24,12 +28,13 @@ struct Envelope {
 
 /// One non-blank line of a replay file, not yet parsed: each is parsed by the thread that
 /// decides it, so that parsing is spread over the cores and no parsed scene outlives its line.
-#[derive(Clone, Copy, Debug)]
-pub struct Line<'a> {
+#[derive(Clone, Debug)]
+pub struct Line {
     /// 1-based, counting every line of the file, blank ones included.
     pub number: usize,
-    /// Without its line end (and a `\r` before it).
-    pub bytes: &'a [u8],
+    /// Without its line end (and a `\r` before it); `None` for a line longer than the limit,
+    /// which was not read to its end.
+    pub bytes: Option<Vec<u8>>,
 }
 
 /// A line read: its request, or why it is not one (pointers are into the line's JSON).
@@ -41,19 +46,111 @@ struct Parsed {
     request: Result<ClarifyBody, Problem>,
 }
 
-/// Splits a replay file into its lines. A line whose object has a `request` member is an
-/// envelope `{"id"?: string, "condition"?: string, "request": body}` (nothing else allowed); any
-/// other line is a bare `POST /v1/clarify` body (which has no `request` member, so the two never
-/// clash). Lines end at `\n` (a `\r` before it is dropped); blank lines are skipped; bytes that
-/// are not UTF-8 make their own line malformed, not the file.
-pub fn parse_lines(bytes: &[u8]) -> Vec<Line<'_>> {
-    bytes
-        .split(|b| *b == b'\n')
-        .enumerate()
-        .map(|(i, line)| (i + 1, line.strip_suffix(b"\r").unwrap_or(line)))
-        .filter(|(_, line)| !line.iter().all(u8::is_ascii_whitespace))
-        .map(|(number, bytes)| Line { number, bytes })
-        .collect()
+/// How the reading of one line ended.
+enum Ended {
+    Newline,
+    End,
+    /// The most it may hold was read before a line end.
+    Full,
+}
+
+/// Reads a replay file's lines in order, one at a time, none further than the body limit, so
+/// that an endless line (`/dev/zero`) is never held: it is reported, and the file is read no
+/// further (there is no next line to go on with). Lines end at `\n` (a `\r` before it is
+/// dropped); blank lines are skipped but counted; bytes that are not UTF-8 make their own line
+/// malformed, not the file. A line whose object has a `request` member is an envelope
+/// `{"id"?: string, "condition"?: string, "request": body}` (nothing else allowed); any other
+/// line is a bare `POST /v1/clarify` body (which has no `request` member, so the two never
+/// clash).
+pub struct Lines {
+    input: Box<dyn BufRead + Send>,
+    /// The number of the last line read.
+    number: usize,
+    /// The most bytes a line may hold (`--max-body-bytes`).
+    limit: usize,
+    /// Set at the end of the input, or after a line past the limit: nothing more is read.
+    ended: bool,
+}
+
+impl Lines {
+    pub fn new(input: impl BufRead + Send + 'static, limit: usize) -> Lines {
+        Lines {
+            input: Box::new(input),
+            number: 0,
+            limit,
+            ended: false,
+        }
+    }
+
+    /// The lines of a file; `-` is standard input.
+    pub fn open(path: &Path, limit: usize) -> Result<Lines, Failure> {
+        if path == Path::new("-") {
+            return Ok(Lines::new(std::io::BufReader::new(std::io::stdin()), limit));
+        }
+        let file = std::fs::File::open(path).map_err(|e| Failure::Unreadable {
+            file: path.display().to_string(),
+            detail: e.to_string(),
+        })?;
+        Ok(Lines::new(std::io::BufReader::new(file), limit))
+    }
+
+    /// The next non-blank line, or `None` once there is none.
+    pub fn next_line(&mut self) -> std::io::Result<Option<Line>> {
+        while !self.ended {
+            let mut bytes = Vec::new();
+            // A line of the limit may still carry a `\r` before its `\n`.
+            let ended = read_line_within(&mut *self.input, &mut bytes, self.limit.saturating_add(2))?;
+            if matches!(ended, Ended::End) {
+                self.ended = true;
+                if bytes.is_empty() {
+                    return Ok(None);
+                }
+            }
+            self.number += 1;
+            if bytes.last() == Some(&b'\r') && !matches!(ended, Ended::Full) {
+                bytes.pop();
+            }
+            if matches!(ended, Ended::Full) || bytes.len() > self.limit {
+                self.ended = true;
+                return Ok(Some(Line {
+                    number: self.number,
+                    bytes: None,
+                }));
+            }
+            if !bytes.iter().all(u8::is_ascii_whitespace) {
+                return Ok(Some(Line {
+                    number: self.number,
+                    bytes: Some(bytes),
+                }));
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// Reads up to the next `\n` (consumed, not kept) into `into`, holding at most `most` bytes.
+fn read_line_within(input: &mut dyn BufRead, into: &mut Vec<u8>, most: usize) -> std::io::Result<Ended> {
+    loop {
+        let available = match input.fill_buf() {
+            Ok(available) => available,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if available.is_empty() {
+            return Ok(Ended::End);
+        }
+        let room = most.saturating_sub(into.len()).min(available.len());
+        if let Some(at) = available[..room].iter().position(|b| *b == b'\n') {
+            into.extend_from_slice(&available[..at]);
+            input.consume(at + 1);
+            return Ok(Ended::Newline);
+        }
+        into.extend_from_slice(&available[..room]);
+        input.consume(room);
+        if into.len() >= most {
+            return Ok(Ended::Full);
+        }
+    }
 }
 
 fn parse_line(bytes: &[u8]) -> Parsed {
@@ -120,28 +217,74 @@ impl Answer {
 /// few enough that the workers finish together.
 const CHUNK: usize = 64;
 
-/// Decides every line on one thread per core, each parsing and deciding the lines it takes.
-/// Each run of consecutive lines a worker decided is handed to `each` on that worker (to
-/// serialize or count it there, beside the deciding), and what `each` made goes to `then` on
-/// the calling thread in line order, as soon as every line before it is in: the same order and
-/// answers whatever the thread count, written while later lines are still being decided, and
-/// no more answers held than the workers have in hand. `runtime` runs the core's operation (and
-/// its blocking pool, for costly decisions); this call blocks, so call it outside the runtime's
-/// own threads (or under `block_in_place`). `done` is called once per line as it finishes, with
-/// the count so far (for a progress counter).
+/// Bytes of lines a worker takes at a time, at most (past one line): what the workers hold of
+/// the input stays small whatever the lines' size.
+const CHUNK_BYTES: usize = 1 << 20;
+
+/// Where the workers take their lines from, one of them at a time.
+struct Source<'a> {
+    lines: &'a mut Lines,
+    /// The number of the next chunk taken.
+    next: usize,
+    /// The first error reading the input: no more lines are taken after it.
+    failed: Option<std::io::Error>,
+}
+
+impl Source<'_> {
+    /// The next chunk of lines and its number; `None` at the end of the input or after an
+    /// error reading it.
+    fn take(&mut self) -> Option<(usize, Vec<Line>)> {
+        let mut taken = Vec::new();
+        let mut bytes = 0;
+        while self.failed.is_none() && taken.len() < CHUNK && bytes < CHUNK_BYTES {
+            match self.lines.next_line() {
+                Ok(Some(line)) => {
+                    bytes += line.bytes.as_ref().map_or(0, Vec::len);
+                    taken.push(line);
+                }
+                Ok(None) => break,
+                Err(e) => self.failed = Some(e),
+            }
+        }
+        if taken.is_empty() {
+            return None;
+        }
+        self.next += 1;
+        Some((self.next - 1, taken))
+    }
+}
+
+/// Decides every line on one thread per core, each reading (one at a time), parsing and
+/// deciding the lines it takes, once under each of `knowledge` (the proposed norms, then for
+/// `--diff` the baseline). Each run of consecutive lines a worker decided is handed to `each`
+/// on that worker (to serialize or count it there, beside the deciding) as its answers under
+/// each knowledge in turn, and what `each` made goes to `then` on the calling thread in line
+/// order, as soon as every line before it is in: the same order and answers whatever the
+/// thread count, written while later lines are still being read and decided, and no more of
+/// the input held than the workers have in hand. `runtime` runs the core's operation (and its
+/// blocking pool, for costly decisions); this call blocks, so call it outside the runtime's own
+/// threads (or under `block_in_place`). `done` is called once per line as it finishes, with
+/// the count so far (for a progress counter). Fails with the first error reading the input,
+/// after handing on every line read before it.
 pub fn replay<T: Send>(
-    lines: &[Line<'_>],
-    knowledge: Knowledge,
+    lines: &mut Lines,
+    knowledge: &[Knowledge],
+    limits: &Limits,
     runtime: &tokio::runtime::Handle,
     done: &(dyn Fn(usize) + Sync),
-    each: &(dyn Fn(Vec<Answer>) -> T + Sync),
+    each: &(dyn Fn(Vec<Vec<Answer>>) -> T + Sync),
     then: &mut dyn FnMut(T),
-) {
-    let core = core_over(knowledge);
+) -> std::io::Result<()> {
+    let cores: Vec<_> = knowledge.iter().map(|k| core_over(k.clone(), limits)).collect();
+    let too_long = too_long(limits.max_body_bytes);
     // No more at once than the core has turns for costly decisions, so none waits for a turn
     // (a server would answer such a wait as overload).
     let workers = std::thread::available_parallelism().map_or(2, usize::from);
-    let next = AtomicUsize::new(0);
+    let source = std::sync::Mutex::new(Source {
+        lines,
+        next: 0,
+        failed: None,
+    });
     let finished = AtomicUsize::new(0);
     // Bounded, so a slow `then` (a slow disk) holds the workers back instead of their answers
     // piling up. The caller drains it whatever order chunks come in, so a full queue never
@@ -151,21 +294,21 @@ pub fn replay<T: Send>(
         let running: Vec<_> = (0..workers)
             .map(|_| {
                 let sender = sender.clone();
-                let (next, finished, core) = (&next, &finished, &core);
+                let (source, finished, cores, too_long) = (&source, &finished, &cores, &too_long);
                 scope.spawn(move || {
                     loop {
-                        let chunk = next.fetch_add(1, Ordering::Relaxed);
-                        let from = chunk.saturating_mul(CHUNK);
-                        if from >= lines.len() {
-                            return;
+                        // A worker that panicked held no line half-read: the source is whole.
+                        let taken = source.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+                        let Some((chunk, taken)) = taken else { return };
+                        let mut decided: Vec<Vec<Answer>> =
+                            cores.iter().map(|_| Vec::with_capacity(taken.len())).collect();
+                        for line in &taken {
+                            let answers = runtime.block_on(answers(line, cores, too_long));
+                            for (kept, answer) in decided.iter_mut().zip(answers) {
+                                kept.push(answer);
+                            }
+                            done(finished.fetch_add(1, Ordering::Relaxed) + 1);
                         }
-                        let decided = (lines.iter().skip(from).take(CHUNK))
-                            .map(|line| {
-                                let answer = runtime.block_on(answer(line, core));
-                                done(finished.fetch_add(1, Ordering::Relaxed) + 1);
-                                answer
-                            })
-                            .collect();
                         // Refused only once the caller has stopped taking chunks (a panic).
                         if sender.send((chunk, each(decided))).is_err() {
                             return;
@@ -193,38 +336,74 @@ pub fn replay<T: Send>(
             worker.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
         }
     });
+    match source
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .failed
+    {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }
 
-/// One line parsed and decided.
-async fn answer(line: &Line<'_>, core: &Core) -> Answer {
+/// The problem of a line longer than the body limit, which ends the replay.
+fn too_long(limit: usize) -> Problem {
+    let mut problem = Error::PayloadTooLarge { limit }.problem();
+    problem.detail = format!(
+        "the line is longer than the limit of {limit} bytes (--max-body-bytes); the lines after it were not read"
+    );
+    problem
+}
+
+/// One line parsed once and decided under each core's knowledge, in turn.
+async fn answers(line: &Line, cores: &[std::sync::Arc<Core>], too_long: &Problem) -> Vec<Answer> {
+    let unanswered = |error: Problem, id: Option<String>, condition: Option<String>| Answer {
+        line: line.number,
+        id,
+        condition,
+        decision: None,
+        error: Some(error),
+    };
+    let Some(bytes) = &line.bytes else {
+        return cores.iter().map(|_| unanswered(too_long.clone(), None, None)).collect();
+    };
     let Parsed {
         id,
         condition,
         enveloped,
         request,
-    } = parse_line(line.bytes);
-    let outcome = match request {
-        Ok(body) => decide(body, core).await.map_err(|e| {
-            let mut problem = e.problem();
-            // Pointers in a report are into the line, whatever wraps the request.
-            if enveloped {
-                problem.field = problem.field.map(|f| format!("/request{f}"));
+    } = parse_line(bytes);
+    let body = match request {
+        Ok(body) => body,
+        Err(problem) => {
+            return cores
+                .iter()
+                .map(|_| unanswered(problem.clone(), id.clone(), condition.clone()))
+                .collect();
+        }
+    };
+    let mut answers = Vec::with_capacity(cores.len());
+    for core in cores {
+        let (decision, error) = match decide(body.clone(), core).await {
+            Ok(d) => (Some(d), None),
+            Err(e) => {
+                let mut problem = e.problem();
+                // Pointers in a report are into the line, whatever wraps the request.
+                if enveloped {
+                    problem.field = problem.field.map(|f| format!("/request{f}"));
+                }
+                (None, Some(problem))
             }
-            problem
-        }),
-        Err(problem) => Err(problem),
-    };
-    let (decision, error) = match outcome {
-        Ok(d) => (Some(d), None),
-        Err(p) => (None, Some(p)),
-    };
-    Answer {
-        line: line.number,
-        id,
-        condition,
-        decision,
-        error,
+        };
+        answers.push(Answer {
+            line: line.number,
+            id: id.clone(),
+            condition: condition.clone(),
+            decision,
+            error,
+        });
     }
+    answers
 }
 
 /// `answers` as JSON Lines, one per answer, in their order.
@@ -343,11 +522,14 @@ fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     out
 }
 
-/// A problem on one line of a report: its detail, and the field when one is at fault.
+/// A problem on one line of a report: its detail, and the field when one is at fault (both may
+/// echo the line, so they are shown escaped).
 fn problem_words(problem: &Problem) -> String {
-    match &problem.field {
-        Some(field) => format!("{} (at {})", problem.detail, if field.is_empty() { "/" } else { field }),
-        None => problem.detail.clone(),
+    let detail = escape_unseen(&problem.detail);
+    match problem.field.as_deref() {
+        Some("") => format!("{detail} (at /)"),
+        Some(field) => format!("{detail} (at {})", escape_unseen(field)),
+        None => detail.into_owned(),
     }
 }
 
@@ -375,7 +557,8 @@ impl fmt::Display for Summary {
             .by_condition
             .iter()
             .map(|(condition, counts)| {
-                let mut row = vec![condition.clone()];
+                // The file's text, shown escaped: a report goes to a terminal.
+                let mut row = vec![escape_unseen(condition).into_owned()];
                 row.extend(kinds.iter().map(|k| counts.get(*k).copied().unwrap_or(0).to_string()));
                 row
             })
@@ -392,7 +575,7 @@ impl fmt::Display for Summary {
 
 #[cfg(test)]
 mod tests {
-    use super::{CHUNK, Knowledge, parse_lines, replay};
+    use super::{CHUNK, Knowledge, Limits, Lines, replay};
 
     /// A `then` that panics ends the replay with that panic, never a hang: the workers waiting
     /// to hand on their chunks (far more chunks than the queue holds) are let go.
@@ -404,15 +587,17 @@ mod tests {
             .unwrap();
         // Each line a body without its directive: an error answer, at once.
         let text = "{}\n".repeat(CHUNK * 40);
-        let lines = parse_lines(text.as_bytes());
+        let limits = Limits::default();
+        let mut lines = Lines::new(std::io::Cursor::new(text.into_bytes()), limits.max_body_bytes);
         let knowledge = Knowledge {
             norms: Default::default(),
             library: Default::default(),
         };
         let raised = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             replay(
-                &lines,
-                knowledge,
+                &mut lines,
+                &[knowledge],
+                &limits,
                 runtime.handle(),
                 &|_| {},
                 &|chunk| chunk.len(),
@@ -421,5 +606,26 @@ mod tests {
         }));
         let raised = raised.expect_err("the panic is raised");
         assert_eq!(raised.downcast_ref::<&str>(), Some(&"then failed"));
+    }
+
+    /// Lines are counted blank ones and all, lose a `\r` before their end, and one past the
+    /// limit is not read to its end and ends the file.
+    #[test]
+    fn lines_are_numbered_and_none_is_read_past_the_limit() {
+        let text = b"{\"a\": 1}\r\n\n  \n12345\n123456789\nnever read\n".to_vec();
+        let mut lines = Lines::new(std::io::Cursor::new(text), 8);
+        let mut read = Vec::new();
+        while let Some(line) = lines.next_line().unwrap() {
+            read.push((line.number, line.bytes));
+        }
+        assert_eq!(
+            read,
+            [
+                (1, Some(b"{\"a\": 1}".to_vec())),
+                (4, Some(b"12345".to_vec())),
+                (5, None)
+            ]
+        );
+        assert!(lines.next_line().unwrap().is_none(), "nothing after it is read");
     }
 }

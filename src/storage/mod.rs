@@ -29,11 +29,16 @@ pub use sqlite::SqliteStore;
 /// Opens the store a database URL names: `postgres://` or `postgresql://` for PostgreSQL,
 /// anything else for SQLite. Migrations are applied before it returns.
 pub async fn open(url: &str) -> Result<std::sync::Arc<dyn NormStore>, StoreError> {
-    if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+    if is_postgres(url) {
         Ok(std::sync::Arc::new(PostgresStore::open(url).await?))
     } else {
         Ok(std::sync::Arc::new(SqliteStore::open(url).await?))
     }
+}
+
+/// Whether a database URL names PostgreSQL (`postgres://`, `postgresql://`) rather than SQLite.
+pub fn is_postgres(url: &str) -> bool {
+    url.starts_with("postgres://") || url.starts_with("postgresql://")
 }
 
 /// A failure of the store itself (I/O, lock, corruption), never of the caller's input.
@@ -205,6 +210,16 @@ pub trait NormStore: Send + Sync + 'static {
     /// Whether the store is open, migrated and readable.
     async fn ping(&self) -> Result<(), StoreError>;
 
+    /// Records that a process serving this store trusts the stored versions it reads for
+    /// `lease` (its `--versions-lease-ms`); `holder` names the process for an operator. Made
+    /// before the process first reads the versions; returns the record's id.
+    async fn hold_lease(&self, lease: std::time::Duration, holder: &str) -> Result<i64, StoreError>;
+    /// Removes a record of [`NormStore::hold_lease`] once its process answers no more requests.
+    async fn release_lease(&self, id: i64) -> Result<(), StoreError>;
+    /// The longest lease any process serving this store records (zero when none does): how
+    /// long after a commit some process may still answer under the versions before it.
+    async fn longest_lease(&self) -> Result<std::time::Duration, StoreError>;
+
     /// Every verb and the action-set version they make up, read in one snapshot, by name.
     async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError>;
     /// Adds or replaces a verb in one transaction. `accept` sees the whole library as it would
@@ -217,6 +232,13 @@ pub trait NormStore: Send + Sync + 'static {
         accept: &Accept,
         actor: &str,
     ) -> Result<Result<bool, crate::error::Error>, StoreError>;
-    /// Whether a verb of that name existed (and is now gone).
-    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError>;
+    /// Removes a verb in one transaction; whether a verb of that name existed (and is now
+    /// gone). `accept` sees the library as it would be without it and may refuse (another verb
+    /// calls it); then nothing is written.
+    async fn delete_action(
+        &self,
+        name: &str,
+        accept: &Accept,
+        actor: &str,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError>;
 }

@@ -26,15 +26,37 @@ pub struct PostgresBackend {
 impl PostgresStore {
     /// Connects to `postgres://user:password@host:port/database` and applies the migrations.
     pub async fn open(url: &str) -> Result<PostgresStore, StoreError> {
+        PostgresStore::migrated(PostgresStore::connect(url).await?).await
+    }
+
+    /// As [`PostgresStore::open`], only if the database already holds a store (its norm set):
+    /// `None`, with nothing created, when it does not (the offline commands read a store, never
+    /// make an empty one to decide under).
+    pub async fn open_existing(url: &str) -> Result<Option<PostgresStore>, StoreError> {
+        let pool = PostgresStore::connect(url).await?;
+        let holds: bool = sqlx::query_scalar("SELECT to_regclass('norm_set') IS NOT NULL")
+            .fetch_one(&pool)
+            .await?;
+        if !holds {
+            pool.close().await;
+            return Ok(None);
+        }
+        PostgresStore::migrated(pool).await.map(Some)
+    }
+
+    async fn connect(url: &str) -> Result<PgPool, StoreError> {
         // The URL may carry a password: errors name the problem, never the URL.
         let options = PgConnectOptions::from_str(url)
             .map_err(|e| StoreError::new(format!("bad PostgreSQL URL: {e}")))?
             .options([("lock_timeout", "5s"), ("statement_timeout", "30s")]);
-        let pool = PgPoolOptions::new()
+        Ok(PgPoolOptions::new()
             .max_connections(8)
             .acquire_timeout(Duration::from_secs(5))
             .connect_with(options)
-            .await?;
+            .await?)
+    }
+
+    async fn migrated(pool: PgPool) -> Result<PostgresStore, StoreError> {
         sqlx::migrate!("./migrations/postgres")
             .run(&pool)
             .await
@@ -174,6 +196,24 @@ impl Tx for PostgresTx {
         Ok(())
     }
 
+    async fn hold_lease(&mut self, lease_ms: i64, holder: &str) -> Result<i64, StoreError> {
+        Ok(
+            sqlx::query_scalar("INSERT INTO leases (lease_ms, holder) VALUES ($1, $2) RETURNING id")
+                .bind(lease_ms)
+                .bind(holder)
+                .fetch_one(&mut *self.0)
+                .await?,
+        )
+    }
+
+    async fn release_lease(&mut self, id: i64) -> Result<(), StoreError> {
+        sqlx::query("DELETE FROM leases WHERE id = $1")
+            .bind(id)
+            .execute(&mut *self.0)
+            .await?;
+        Ok(())
+    }
+
     async fn commit(self) -> Result<(), StoreError> {
         Ok(self.0.commit().await?)
     }
@@ -218,6 +258,12 @@ impl Backend for PostgresBackend {
         .fetch_one(&self.pool)
         .await?;
         Ok(Versions { norms, actions })
+    }
+
+    async fn longest_lease_ms(&self) -> Result<i64, StoreError> {
+        Ok(sqlx::query_scalar("SELECT COALESCE(MAX(lease_ms), 0) FROM leases")
+            .fetch_one(&self.pool)
+            .await?)
     }
 
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError> {

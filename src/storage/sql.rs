@@ -246,6 +246,9 @@ pub trait Tx: Send + Sized {
     async fn upsert_action(&mut self, name: &str, definition: &str) -> Result<(), StoreError>;
     async fn delete_action(&mut self, name: &str) -> Result<(), StoreError>;
     async fn record(&mut self, change: Change<'_>) -> Result<(), StoreError>;
+    /// Adds a serving process's lease record; returns its id.
+    async fn hold_lease(&mut self, lease_ms: i64, holder: &str) -> Result<i64, StoreError>;
+    async fn release_lease(&mut self, id: i64) -> Result<(), StoreError>;
     async fn commit(self) -> Result<(), StoreError>;
     async fn rollback(self) -> Result<(), StoreError>;
 }
@@ -263,6 +266,8 @@ pub trait Backend: Send + Sync + 'static {
     /// Both set versions in one cheap statement.
     async fn versions(&self) -> Result<Versions, StoreError>;
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError>;
+    /// The longest lease recorded, in milliseconds (0 when none is).
+    async fn longest_lease_ms(&self) -> Result<i64, StoreError>;
 }
 
 /// A norm store on a SQL backend.
@@ -444,6 +449,27 @@ impl<B: Backend> NormStore for SqlStore<B> {
         self.versions().await.map(|_| ())
     }
 
+    async fn hold_lease(&self, lease: std::time::Duration, holder: &str) -> Result<i64, StoreError> {
+        let lease_ms =
+            i64::try_from(lease.as_millis()).map_err(|_| StoreError::new("the lease is too long to record"))?;
+        let mut tx = self.backend.write().await?;
+        let id = tx.hold_lease(lease_ms, holder).await?;
+        tx.commit().await?;
+        Ok(id)
+    }
+
+    async fn release_lease(&self, id: i64) -> Result<(), StoreError> {
+        let mut tx = self.backend.write().await?;
+        tx.release_lease(id).await?;
+        tx.commit().await
+    }
+
+    async fn longest_lease(&self) -> Result<std::time::Duration, StoreError> {
+        self.backend.still_there()?;
+        let ms = self.backend.longest_lease_ms().await?;
+        Ok(std::time::Duration::from_millis(u64::try_from(ms).unwrap_or(0)))
+    }
+
     async fn load_actions(&self) -> Result<(i64, Vec<StoredAction>), StoreError> {
         self.backend.still_there()?;
         let mut tx = self.backend.read().await?;
@@ -493,13 +519,25 @@ impl<B: Backend> NormStore for SqlStore<B> {
         Ok(Ok(created))
     }
 
-    async fn delete_action(&self, name: &str, actor: &str) -> Result<bool, StoreError> {
+    async fn delete_action(
+        &self,
+        name: &str,
+        accept: &Accept,
+        actor: &str,
+    ) -> Result<Result<bool, crate::error::Error>, StoreError> {
+        // Under the write lock from the start: no verb can come to call this one between the
+        // judgement and the delete.
         let mut tx = self.backend.write().await?;
-        let all = tx.actions().await?;
-        let Some((_, before)) = all.into_iter().find(|(n, _)| n == name) else {
+        let mut rest = tx.actions().await?;
+        let Some(at) = rest.iter().position(|(n, _)| n == name) else {
             tx.rollback().await?;
-            return Ok(false);
+            return Ok(Ok(false));
         };
+        let (_, before) = rest.remove(at);
+        if let Err(refused) = accept(&rest) {
+            tx.rollback().await?;
+            return Ok(Err(refused));
+        }
         tx.delete_action(name).await?;
         let version = tx.bump(Set::Actions).await?;
         tx.record(Change {
@@ -513,7 +551,7 @@ impl<B: Backend> NormStore for SqlStore<B> {
         })
         .await?;
         tx.commit().await?;
-        Ok(true)
+        Ok(Ok(true))
     }
 }
 

@@ -177,6 +177,24 @@ impl Tx for SqliteTx {
         Ok(())
     }
 
+    async fn hold_lease(&mut self, lease_ms: i64, holder: &str) -> Result<i64, StoreError> {
+        Ok(
+            sqlx::query_scalar("INSERT INTO leases (lease_ms, holder) VALUES (?, ?) RETURNING id")
+                .bind(lease_ms)
+                .bind(holder)
+                .fetch_one(&mut *self.0)
+                .await?,
+        )
+    }
+
+    async fn release_lease(&mut self, id: i64) -> Result<(), StoreError> {
+        sqlx::query("DELETE FROM leases WHERE id = ?")
+            .bind(id)
+            .execute(&mut *self.0)
+            .await?;
+        Ok(())
+    }
+
     async fn commit(self) -> Result<(), StoreError> {
         Ok(self.0.commit().await?)
     }
@@ -227,6 +245,12 @@ impl Backend for SqliteBackend {
         .fetch_one(&self.pool)
         .await?;
         Ok(Versions { norms, actions })
+    }
+
+    async fn longest_lease_ms(&self) -> Result<i64, StoreError> {
+        Ok(sqlx::query_scalar("SELECT COALESCE(MAX(lease_ms), 0) FROM leases")
+            .fetch_one(&self.pool)
+            .await?)
     }
 
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError> {

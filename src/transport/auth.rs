@@ -85,19 +85,44 @@ fn digest(bytes: &[u8]) -> [u8; 32] {
     Sha256::digest(bytes).into()
 }
 
+/// The fewest bytes a secret may have: a guess at a shorter one is too likely to succeed.
+pub const MIN_SECRET_BYTES: usize = 16;
+
+/// Where a token was configured, as an operator would look for it.
+#[derive(Clone, Copy)]
+enum Given {
+    Admin,
+    Curator,
+    Reader,
+}
+
+impl Given {
+    /// The flag and the variable, to name in a startup error; and the label, for the others.
+    fn named(self, label: &str) -> String {
+        match self {
+            Given::Admin => "--admin-token (SCRUPLE_ADMIN_TOKEN)".to_owned(),
+            Given::Curator => format!("the secret of --curator-token `{label}` (SCRUPLE_CURATOR_TOKENS)"),
+            Given::Reader => format!("the secret of --reader-token `{label}` (SCRUPLE_READER_TOKENS)"),
+        }
+    }
+}
+
 impl Tokens {
     /// Checks labels (letters, digits, `_`, `-`, `.`; unique; not `anonymous`) and secrets
-    /// (unique; curator and reader secrets at least 16 bytes), so that a typo cannot open a door.
-    /// The admin token keeps the length it always could have.
+    /// (unique, at least [`MIN_SECRET_BYTES`], not blank), so that a typo cannot open a door.
+    /// The admin token is held to the same rule: set but empty (a variable filled from an
+    /// unset one) it used to mean no token, every write open without a word. Errors name the
+    /// flag and the variable, never the secret.
     pub fn new(admin: Option<&str>, curators: &[LabelledSecret], readers: &[LabelledSecret]) -> Result<Tokens, String> {
-        let admin = admin.filter(|t| !t.is_empty()).map(|secret| LabelledSecret {
+        let admin = admin.map(|secret| LabelledSecret {
             label: ADMIN.to_owned(),
             secret: secret.to_owned(),
         });
-        let writers = admin.iter().chain(curators).map(|t| (t, true));
+        let writers = (admin.iter().map(|t| (t, Given::Admin))).chain(curators.iter().map(|t| (t, Given::Curator)));
         let mut tokens: Vec<Token> = Vec::new();
         let mut seen_secrets: Vec<[u8; 32]> = Vec::new();
-        for (token, may_write) in writers.chain(readers.iter().map(|t| (t, false))) {
+        for (token, given) in writers.chain(readers.iter().map(|t| (t, Given::Reader))) {
+            let may_write = !matches!(given, Given::Reader);
             let label = &token.label;
             let label_ok = !label.is_empty()
                 && label.len() <= 64
@@ -113,8 +138,17 @@ impl Tokens {
             if tokens.iter().any(|t| &*t.label == label) {
                 return Err(format!("token label `{label}` is used twice"));
             }
-            if label != ADMIN && token.secret.len() < 16 {
-                return Err(format!("the secret of token `{label}` is shorter than 16 bytes"));
+            if token.secret.trim().is_empty() {
+                return Err(format!(
+                    "{} is empty: give a secret of at least {MIN_SECRET_BYTES} bytes, or leave it unset",
+                    given.named(label)
+                ));
+            }
+            if token.secret.len() < MIN_SECRET_BYTES {
+                return Err(format!(
+                    "{} is shorter than {MIN_SECRET_BYTES} bytes",
+                    given.named(label)
+                ));
             }
             let digest = digest(token.secret.as_bytes());
             if seen_secrets.contains(&digest) {
@@ -240,6 +274,14 @@ mod tests {
         .unwrap_err();
         assert!(same.contains("same secret"), "{same}");
         assert!(Tokens::new(None, &[labelled("a b", "bob-secret-0123456789")], &[]).is_err());
+        for admin in ["", " \t ", "short-SECRET"] {
+            let refused = Tokens::new(Some(admin), &[], &[]).unwrap_err();
+            assert!(
+                refused.starts_with("--admin-token (SCRUPLE_ADMIN_TOKEN) is "),
+                "{refused}"
+            );
+            assert!(!refused.contains("SECRET"), "the secret is not echoed: {refused}");
+        }
         assert!(format!("{:?}", labelled("bob", "bob-secret-0123456789")).contains("redacted"));
     }
 }

@@ -21,7 +21,9 @@ pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
     ObjectBody, OptionsBody, ParseDto, ReasonDto, ReferenceBody, ReferenceParseDto, Scalar, SceneBody, ShapeBody,
 };
-pub use norms::{AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto};
+pub use norms::{
+    AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto, NormSetImportSchema, NormSetObject,
+};
 pub use verbs::{ActionSchema, MethodSchema};
 
 /// Parses a JSON body. Text that is not JSON is a 400; JSON of the wrong shape is a 422 whose

@@ -102,13 +102,76 @@ pub struct NormSetDto {
     pub norms: Vec<NormDto>,
 }
 
-/// A whole norm set to import: exactly what an export gives (its `version` is informational;
-/// the precondition goes in `If-Match`). Every norm is validated before anything is replaced.
-#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
-#[serde(deny_unknown_fields)]
+/// A whole norm set to import: what an export gives, or a plain list of norms (the offline
+/// CLI's norms file), taken as the set's `norms`. Every norm is validated before anything is
+/// replaced.
+#[derive(Clone, Debug, Serialize)]
 pub struct NormSetBody {
+    /// Informational; the precondition goes in `If-Match`. None for a list.
     pub version: Option<i64>,
     pub norms: Vec<NormBody>,
+    /// Whether the body was a plain list: the pointer of its `i`-th norm is then `/i`, not
+    /// `/norms/i`.
+    #[serde(skip)]
+    pub listed: bool,
+}
+
+// The object form `NormSetBody` reads; its schema keeps the name the document always gave it.
+/// A whole norm set to import, as an export gives it. Every norm is validated before anything
+/// is replaced.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[schema(as = NormSetBody)]
+pub struct NormSetObject {
+    /// Informational (an export carries it); the precondition goes in `If-Match`.
+    pub version: Option<i64>,
+    pub norms: Vec<NormBody>,
+}
+
+// The schema of what `NormSetBody` reads, for the API's document only.
+/// What `PUT /v1/norm-set` takes: a norm set as an export gives it, or a plain list of norms
+/// (the offline CLI's norms file), taken as the set's `norms`.
+#[derive(Serialize, ToSchema)]
+#[serde(untagged)]
+#[schema(as = NormSetImport)]
+pub enum NormSetImportSchema {
+    Set(NormSetObject),
+    List(Vec<NormBody>),
+}
+
+impl<'de> Deserialize<'de> for NormSetBody {
+    /// An object is read as a norm set (unknown members refused), a list as its norms; any
+    /// other JSON says which two shapes are wanted. Both are read through the deserializer
+    /// given, so a fault inside still names its member.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Shape;
+        impl<'de> serde::de::Visitor<'de> for Shape {
+            type Value = NormSetBody;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a norm set {\"version\": N, \"norms\": [...]} or a list of norms")
+            }
+
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<NormSetBody, A::Error> {
+                let set = NormSetObject::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(NormSetBody {
+                    version: set.version,
+                    norms: set.norms,
+                    listed: false,
+                })
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<NormSetBody, A::Error> {
+                let norms = Vec::<NormBody>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))?;
+                Ok(NormSetBody {
+                    version: None,
+                    norms,
+                    listed: true,
+                })
+            }
+        }
+        deserializer.deserialize_any(Shape)
+    }
 }
 
 /// One change to norms or verbs.

@@ -344,7 +344,7 @@ async fn bad_verbs_name_their_field_and_store_nothing() {
 #[tokio::test]
 async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() {
     let app = spawn_with(Options {
-        admin_token: Some("t0ken".into()),
+        admin_token: Some("t0ken-0123456789ab".into()),
         ..Options::default()
     })
     .await;
@@ -365,14 +365,17 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
         "comply"
     );
 
-    let deleted = app
-        .client
-        .delete(app.url("/v1/actions/get"))
-        .bearer_auth("t0ken")
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(deleted.status(), StatusCode::NO_CONTENT);
+    // `put` calls `get`: it goes first.
+    for verb in ["put", "get"] {
+        let deleted = app
+            .client
+            .delete(app.url(&format!("/v1/actions/{verb}")))
+            .bearer_auth("t0ken-0123456789ab")
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(deleted.status(), StatusCode::NO_CONTENT, "{verb}");
+    }
     let answer = app.clarify(&request("get", &["mug"], lab_scene())).await;
     assert_eq!(
         answer["utterance"],
@@ -381,7 +384,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
     let again = app
         .client
         .delete(app.url("/v1/actions/get"))
-        .bearer_auth("t0ken")
+        .bearer_auth("t0ken-0123456789ab")
         .send()
         .await
         .unwrap();
@@ -402,7 +405,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
         .actions;
     assert_eq!(
         listed.iter().map(|a| a.name.clone().unwrap()).collect::<Vec<_>>(),
-        ["destroy", "pointTo", "put", "steal"]
+        ["destroy", "pointTo", "steal"]
     );
     let status = actions
         .put_action(pb::PutActionRequest {
@@ -430,7 +433,7 @@ async fn removing_a_verb_makes_its_readings_unknown_and_writes_need_the_token() 
     });
     authorised
         .metadata_mut()
-        .insert("authorization", "Bearer t0ken".parse().unwrap());
+        .insert("authorization", "Bearer t0ken-0123456789ab".parse().unwrap());
     assert!(actions.put_action(authorised).await.unwrap().into_inner().created);
     assert_eq!(
         app.clarify(&request("get", &["mug"], lab_scene())).await["decision"],
@@ -480,4 +483,56 @@ async fn an_unreadable_verb_in_the_store_fails_closed() {
         None,
     )
     .await;
+}
+
+/// Finding: `DELETE /v1/actions/get` succeeded while the default `put` calls `get` in its
+/// method, so every `put` became infeasible at a step nobody asked about. A verb another verb
+/// calls is refused with 409, naming the callers, over REST and gRPC; nothing changes (the
+/// library version stays); once the callers are gone, it goes.
+#[tokio::test]
+async fn a_verb_another_verb_calls_is_not_removed_and_the_callers_are_named() {
+    let app = spawn_app().await;
+    let version = |app: &TestApp| {
+        let url = app.url("/v1/clarify");
+        let client = app.client.clone();
+        async move {
+            let body = request("get", &["mug"], lab_scene());
+            let answer: Value = client.post(url).json(&body).send().await.unwrap().json().await.unwrap();
+            answer["library_version"].as_i64().unwrap()
+        }
+    };
+    let before = version(&app).await;
+    // A second caller, by another arity's name: `fetch(X,Y)` calls `get(X)`.
+    let fetch = json!({"parameters": ["X", "Y"], "methods": [{"steps": ["get(X)", "itself"]}]});
+    assert_eq!(put(&app, "fetch", &fetch).await.status(), StatusCode::CREATED);
+    let problem = assert_problem(app.delete("/v1/actions/get").await, StatusCode::CONFLICT, None).await;
+    let detail = problem["detail"].as_str().unwrap_or_default();
+    assert!(detail.contains("`put`") && detail.contains("`fetch`"), "{detail}");
+    assert_eq!(problem["type"], "/problems/verb-in-use");
+    assert_eq!(
+        app.get("/v1/actions/get").await.status(),
+        StatusCode::OK,
+        "get is still there"
+    );
+    assert_eq!(
+        version(&app).await,
+        before + 1,
+        "only the put of fetch moved the library"
+    );
+
+    let channel = crate::grpc::channel(&app).await;
+    let mut actions = pb::actions_client::ActionsClient::new(channel);
+    let status = actions
+        .delete_action(pb::DeleteActionRequest { name: "get".into() })
+        .await
+        .unwrap_err();
+    assert_eq!(status.code(), tonic::Code::FailedPrecondition);
+    assert!(status.message().contains("`put`"), "{}", status.message());
+
+    // The callers first, then the verb they called.
+    for name in ["fetch", "put", "get"] {
+        let response = app.delete(&format!("/v1/actions/{name}")).await;
+        assert_eq!(response.status(), StatusCode::NO_CONTENT, "{name}");
+    }
+    assert_problem(app.get("/v1/actions/get").await, StatusCode::NOT_FOUND, None).await;
 }

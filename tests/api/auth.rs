@@ -10,7 +10,7 @@ use scruple::transport::auth::LabelledSecret;
 #[tokio::test]
 async fn writes_need_the_admin_token_and_reads_do_not() {
     let app = spawn_with(Options {
-        admin_token: Some("s3cret".into()),
+        admin_token: Some("s3cret-admin-token".into()),
         ..Options::default()
     })
     .await;
@@ -34,7 +34,7 @@ async fn writes_need_the_admin_token_and_reads_do_not() {
     let basic = app
         .client
         .post(app.url("/v1/norms"))
-        .basic_auth("admin", Some("s3cret"))
+        .basic_auth("admin", Some("s3cret-admin-token"))
         .json(&norm)
         .send()
         .await
@@ -48,7 +48,7 @@ async fn writes_need_the_admin_token_and_reads_do_not() {
     let created = app
         .client
         .post(app.url("/v1/norms"))
-        .bearer_auth("s3cret")
+        .bearer_auth("s3cret-admin-token")
         .json(&norm)
         .send()
         .await
@@ -80,7 +80,7 @@ async fn writes_need_the_admin_token_and_reads_do_not() {
     let deleted = app
         .client
         .delete(app.url(&path))
-        .bearer_auth("s3cret")
+        .bearer_auth("s3cret-admin-token")
         .send()
         .await
         .unwrap();
@@ -180,12 +180,17 @@ async fn tokens_never_reach_the_log() {
 #[tokio::test]
 async fn the_bearer_scheme_is_matched_in_any_case() {
     let app = spawn_with(Options {
-        admin_token: Some("s3cret".into()),
+        admin_token: Some("s3cret-admin-token".into()),
         ..Options::default()
     })
     .await;
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
-    for header in ["Bearer s3cret", "bearer s3cret", "BEARER s3cret", "bEaReR   s3cret"] {
+    for header in [
+        "Bearer s3cret-admin-token",
+        "bearer s3cret-admin-token",
+        "BEARER s3cret-admin-token",
+        "bEaReR   s3cret-admin-token",
+    ] {
         let response = app
             .client
             .post(app.url("/v1/norms"))
@@ -208,7 +213,7 @@ async fn the_bearer_scheme_is_matched_in_any_case() {
     let no_space = app
         .client
         .post(app.url("/v1/norms"))
-        .header("authorization", "Bearers3cret")
+        .header("authorization", "Bearers3cret-admin-token")
         .json(&norm)
         .send()
         .await

@@ -317,10 +317,23 @@ on_both_backends!(
                 .unwrap()
                 .is_err()
         );
-        assert!(store.delete_action("open", "bob").await.unwrap());
-        assert!(!store.delete_action("open", "bob").await.unwrap());
+        // A delete the judge refuses (another verb calls it) writes nothing either.
+        let keep = |rest: &[StoredAction]| -> Result<(), Error> {
+            assert!(
+                !rest.iter().any(|(n, _)| n == "open"),
+                "the judge sees the library without it"
+            );
+            Err(Error::invalid("", "refused"))
+        };
+        assert!(store.delete_action("open", &keep, "bob").await.unwrap().is_err());
+        assert!(store.delete_action("open", &accept_all, "bob").await.unwrap().unwrap());
+        assert!(!store.delete_action("open", &accept_all, "bob").await.unwrap().unwrap());
         let (version, verbs) = store.load_actions().await.unwrap();
-        assert_eq!((version, verbs.len()), (start + 3, 5), "the refused verb moved nothing");
+        assert_eq!(
+            (version, verbs.len()),
+            (start + 3, 5),
+            "the refused verb and the refused delete moved nothing"
+        );
         assert_eq!(store.audit(0, 10).await.unwrap().len(), 3);
     }
 );

@@ -287,7 +287,7 @@ async fn every_paper_case_gives_the_same_answer_over_grpc_as_over_rest() {
 #[tokio::test]
 async fn errors_carry_the_same_code_and_field_on_both_transports() {
     let app = spawn_with(Options {
-        admin_token: Some("s3cret".into()),
+        admin_token: Some("s3cret-admin-token".into()),
         ..Options::default()
     })
     .await;
@@ -378,7 +378,7 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
     let mut right = tonic::Request::new(norm_request(&norm));
     right
         .metadata_mut()
-        .insert("authorization", "Bearer s3cret".parse().unwrap());
+        .insert("authorization", "Bearer s3cret-admin-token".parse().unwrap());
     let created = norms
         .create_norm(right)
         .await
@@ -393,7 +393,7 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
     ));
     bad_norm
         .metadata_mut()
-        .insert("authorization", "Bearer s3cret".parse().unwrap());
+        .insert("authorization", "Bearer s3cret-admin-token".parse().unwrap());
     let status = norms.create_norm(bad_norm).await.unwrap_err();
     assert_eq!(status.code(), Code::InvalidArgument);
     assert_eq!(status.metadata().get("field").unwrap(), "/severity");
@@ -410,7 +410,7 @@ async fn errors_carry_the_same_code_and_field_on_both_transports() {
     });
     delete
         .metadata_mut()
-        .insert("authorization", "Bearer s3cret".parse().unwrap());
+        .insert("authorization", "Bearer s3cret-admin-token".parse().unwrap());
     norms.delete_norm(delete).await.expect("deleted with the token");
     assert!(app.norms().await.is_empty());
 }

@@ -138,6 +138,93 @@ async fn contexts_and_roles_match_whatever_their_case_and_spacing() {
     assert_eq!(app.norms().await[0]["context"], "hospital_ward");
 }
 
+/// Finding: a norm's `context` kept invisible characters ("ward" + U+200B was stored and then
+/// applied to no request anyone could type), while roles refused them. Contexts and roles now
+/// follow one rule, wherever they come from: a norm, an import, a request, a check, gRPC; the
+/// refusal is a 422 naming the field, and nothing is stored.
+#[tokio::test]
+async fn a_context_with_invisible_or_control_characters_is_refused_as_a_role_is() {
+    use scruple::transport::grpc::pb::clarifier_client::ClarifierClient;
+    use scruple::transport::grpc::pb::norms_client::NormsClient;
+
+    let app = spawn_app().await;
+    let channel = crate::grpc::channel(&app).await;
+    let (mut norms, mut clarifier) = (NormsClient::new(channel.clone()), ClarifierClient::new(channel));
+    for context in [
+        "ward\u{200b}",
+        "\u{202e}ward",
+        "wa\u{0}rd",
+        "ward\u{feff}",
+        "ward\u{1b}[0m",
+    ] {
+        let norm = json!({"kind": "forbidden_action", "action": "get", "context": context});
+        assert_problem(
+            app.post("/v1/norms", &norm).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/context"),
+        )
+        .await;
+        let status = norms.create_norm(crate::grpc::norm_request(&norm)).await.unwrap_err();
+        assert_eq!(status.code(), tonic::Code::InvalidArgument, "{context:?}");
+        assert_eq!(status.metadata().get("field").unwrap(), "/context");
+        assert_problem(
+            put_json(&app, "/v1/norm-set", &json!({"norms": [norm]})).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/norms/0/context"),
+        )
+        .await;
+        let request = json!({
+            "directive": {"action": "get", "arguments": [{"type": "mug"}]},
+            "scene": lab_scene(),
+            "context": context,
+        });
+        assert_problem(
+            app.post("/v1/clarify", &request).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/context"),
+        )
+        .await;
+        let status = clarifier
+            .clarify(crate::grpc::clarify_request(&request))
+            .await
+            .unwrap_err();
+        assert_eq!(status.code(), tonic::Code::InvalidArgument, "{context:?}");
+        assert_eq!(status.metadata().get("field").unwrap(), "/context");
+        let check = json!({"scene": lab_scene(), "steps": ["get(object5)"], "context": context});
+        assert_problem(
+            app.post("/v1/check", &check).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/context"),
+        )
+        .await;
+    }
+    assert!(app.norms().await.is_empty(), "nothing was stored");
+
+    // A context stored before the rule (by hand, or by an older build) applies nowhere: it
+    // fails closed, naming the norm and the field, rather than being silently passed over.
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "get", "context": "ward"}))
+        .await;
+    sql(
+        &app,
+        "UPDATE norms SET context = 'ward' || char(8203); UPDATE norm_set SET version = version + 1;",
+    )
+    .await;
+    crate::helpers::after_the_lease().await;
+    let request = json!({
+        "directive": {"action": "get", "arguments": [{"type": "mug"}]},
+        "scene": lab_scene(),
+        "context": "ward",
+    });
+    let problem = assert_problem(
+        app.post("/v1/clarify", &request).await,
+        StatusCode::SERVICE_UNAVAILABLE,
+        None,
+    )
+    .await;
+    let detail = problem["detail"].as_str().unwrap_or_default();
+    assert!(detail.contains("norm 1") && detail.contains("/context"), "{detail}");
+}
+
 fn cups(colours: &[&str]) -> Value {
     let objects: Vec<Value> = colours
         .iter()
@@ -787,4 +874,39 @@ async fn health_says_what_a_decision_would_find() {
         None,
     )
     .await;
+}
+
+/// Finding: `/v1/audit?actor=alice` answered every entry, as if filtered by nobody: a member
+/// the endpoint does not take was silently ignored. Each unknown or repeated member is a 422
+/// naming it; the members it takes still work, percent-encoded or not.
+#[tokio::test]
+async fn an_audit_query_member_the_endpoint_does_not_take_is_a_422_naming_it() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "destroy"}))
+        .await;
+    for (query, field) in [
+        ("actor=alice", "/actor"),
+        ("after=0&actor=alice", "/actor"),
+        ("subject=norm&limit=5", "/subject"),
+        ("after=0&after=1", "/after"),
+        ("limit=5&limit=5", "/limit"),
+        ("after", "/after"),
+    ] {
+        let problem = assert_problem(
+            app.get(&format!("/v1/audit?{query}")).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(field),
+        )
+        .await;
+        assert!(
+            problem["detail"].as_str().unwrap_or_default().contains('`'),
+            "{query}: the detail names it: {problem}"
+        );
+    }
+    for query in ["", "after=0", "after=0&limit=5", "%61fter=0&limit=%35", "after=0&"] {
+        let response = app.get(&format!("/v1/audit?{query}")).await;
+        assert_eq!(response.status(), StatusCode::OK, "{query}");
+        let page: Value = response.json().await.unwrap();
+        assert_eq!(page["entries"].as_array().map(Vec::len), Some(1), "{query}");
+    }
 }

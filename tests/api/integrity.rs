@@ -292,10 +292,72 @@ async fn an_import_with_one_bad_norm_or_a_stale_version_changes_nothing() {
     assert!(app.norms().await.is_empty());
 }
 
+/// Finding: a plain list of norms (the offline CLI's `--norms` file) sent to `PUT
+/// /v1/norm-set` answered "invalid type: map, expected i64" at `/0`, read as the set's members
+/// in order. A list is taken as the set's `norms` (the CLI file imports as is); faults point
+/// into the list as sent; any other shape says which two are wanted.
+#[tokio::test]
+async fn a_plain_list_of_norms_imports_as_a_norm_set() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_action", "action": "steal"}))
+        .await;
+    let list = json!([
+        {"kind": "forbidden_action", "action": "destroy"},
+        {"kind": "forbidden_state", "state": "did(self,get(object3))", "note": "the fragile vase may not be got"},
+    ]);
+    let response = put(&app, "/v1/norm-set", None, &list).await;
+    assert_eq!(response.status(), StatusCode::OK);
+    let tag = etag(&response);
+    let imported: Value = response.json().await.unwrap();
+    let exported: Value = app.get("/v1/norm-set").await.json().await.unwrap();
+    assert_eq!(imported, exported);
+    assert_eq!(tag, format!("\"{}\"", exported["version"]));
+    let norms = exported["norms"].as_array().unwrap();
+    assert_eq!(norms.len(), 2, "the list replaced the set: {exported}");
+    assert_eq!(norms[0]["action"], "destroy");
+    assert_eq!(norms[1]["state"], "did(self,get(object3))");
+    assert_eq!(app.clarify(&get_vase()).await["decision"], "assume");
+
+    // A fault in the list points into the list; nothing changes.
+    let bad = json!([
+        {"kind": "forbidden_action", "action": "steal"},
+        {"kind": "forbidden_action", "action": "steal", "severity": 9},
+    ]);
+    assert_problem(
+        put(&app, "/v1/norm-set", None, &bad).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/1/severity"),
+    )
+    .await;
+    let misspelt = json!([{"kind": "forbidden_action", "action": "steal", "wen": []}]);
+    assert_problem(
+        put(&app, "/v1/norm-set", None, &misspelt).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/0/wen"),
+    )
+    .await;
+    assert_eq!(app.get("/v1/norm-set").await.json::<Value>().await.unwrap(), exported);
+
+    // Neither a set nor a list: the answer says what is wanted.
+    for body in [json!("norms"), json!(3), json!(null)] {
+        let problem = assert_problem(
+            put(&app, "/v1/norm-set", None, &body).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some(""),
+        )
+        .await;
+        let detail = problem["detail"].as_str().unwrap_or_default();
+        assert!(
+            detail.contains("\"norms\"") && detail.contains("list"),
+            "{body}: {detail}"
+        );
+    }
+}
+
 #[tokio::test]
 async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     let app = spawn_tweaked(|config| {
-        config.admin_token = Some(Secret("root-secret".into()));
+        config.admin_token = Some(Secret("root-secret-0123456789".into()));
         config.curator_tokens = vec![LabelledSecret {
             label: "alice".into(),
             secret: "alice-secret-0123456789".into(),
@@ -304,7 +366,7 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     .await;
     let as_token = |token: &'static str| move |request: reqwest::RequestBuilder| request.bearer_auth(token).send();
     let alice = as_token("alice-secret-0123456789");
-    let admin = as_token("root-secret");
+    let admin = as_token("root-secret-0123456789");
     let norm = json!({"kind": "forbidden_action", "action": "destroy"});
     let created = alice(app.client.post(app.url("/v1/norms")).json(&norm)).await.unwrap();
     assert_eq!(created.status(), StatusCode::CREATED);

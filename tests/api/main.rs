@@ -15,6 +15,7 @@ mod grpc;
 mod hardening;
 mod helpers;
 mod integrity;
+mod leases;
 mod limits;
 mod migrations;
 mod never_drop;

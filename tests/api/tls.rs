@@ -80,7 +80,7 @@ fn https(app: &TestApp, path: &str) -> String {
 #[tokio::test]
 async fn rest_and_grpc_share_the_tls_port() {
     let pair = self_signed();
-    let (app, _dir) = spawn_tls(&pair, Some("tls-admin-token")).await;
+    let (app, _dir) = spawn_tls(&pair, Some("tls-admin-token-0123")).await;
 
     // ALPN picks HTTP/2 when the client offers it, HTTP/1.1 when that is all it speaks.
     let h2 = https_client(&pair.0, &both());
@@ -110,7 +110,7 @@ async fn rest_and_grpc_share_the_tls_port() {
     assert_eq!(refused.status(), StatusCode::UNAUTHORIZED);
     let created = h2
         .post(https(&app, "/v1/norms"))
-        .bearer_auth("tls-admin-token")
+        .bearer_auth("tls-admin-token-0123")
         .json(&norm)
         .send()
         .await

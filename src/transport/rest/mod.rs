@@ -23,7 +23,7 @@ use crate::transport::conn::{self, problem::Protocol};
 use crate::transport::{AppState, Arrival};
 use crate::wire::{
     ActionSchema, AuditPageDto, CheckBody, CheckDto, ClarifyBody, DecisionDto, NormBody, NormDto, NormSetBody,
-    NormSetDto, parse_json,
+    NormSetDto, NormSetImportSchema, parse_json,
 };
 
 mod coding;
@@ -401,15 +401,15 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
 
 #[utoipa::path(put, path = "/v1/norm-set", tag = "norms",
     summary = "Import a whole norm set, replacing every norm in one transaction",
-    description = "Takes what GET /v1/norm-set gives. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
+    description = "Takes what GET /v1/norm-set gives, or a plain list of norms (the offline CLI's norms file), taken as the set's `norms`. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
     params(("if-match" = Option<String>, Header, description = "The norm-set version expected, as an ETag")),
-    request_body(content = NormSetBody, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
+    request_body(content = NormSetImportSchema, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
     security((), ("token" = [])),
     responses(
         (status = 200, description = "Imported; the set as stored, its version in `ETag`", body = NormSetDto,
          headers(("etag" = String, description = "The new norm-set version, quoted"))),
         doc::problems::Changed,
-        (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`)", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "A norm is wrong; `field` points at it (`/norms/3/severity`, or `/3/severity` in a list); or the body is neither a norm set nor a list of norms", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::Store,
         doc::problems::JsonBody,
         doc::problems::WriteToken,
@@ -423,7 +423,17 @@ async fn import_norms(
     let current = async { Ok(app.core.export_norms().await?.0) };
     let expected = if_match.expected(|| "the norm set".to_owned(), current).await?;
     let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
-    let (version, norms) = app.core.import_norms(inputs, expected, &actor).await?;
+    let imported = app.core.import_norms(inputs, expected, &actor).await;
+    // Core points into a set's `norms`; a list sent bare is pointed into as it was sent.
+    let (version, norms) = imported.map_err(|e| match e {
+        Error::Invalid { field, detail } if body.listed => Error::Invalid {
+            field: field
+                .strip_prefix("/norms")
+                .map_or_else(|| field.clone(), str::to_owned),
+            detail,
+        },
+        other => other,
+    })?;
     let set = NormSetDto {
         version,
         norms: norms.iter().map(NormDto::from).collect(),
@@ -442,23 +452,35 @@ struct AuditQuery {
 }
 
 impl AuditQuery {
-    /// Each parameter that is not an integer is a 422 naming it (`/after`, `/limit`); others
-    /// are ignored, as HTTP caches and proxies may add their own.
-    fn parse(query: &str) -> Result<AuditQuery, Error> {
+    /// The members, percent-decoded. Each is a 422 naming it (`/after`, `/limit`, `/actor`)
+    /// when it is not an integer, is given twice, or is not one the trail takes: a filter the
+    /// service does not have (`?actor=alice`) must not be answered as if it had applied it.
+    fn parse(uri: &axum::http::Uri) -> Result<AuditQuery, Error> {
+        let axum::extract::Query(pairs) = axum::extract::Query::<Vec<(String, String)>>::try_from_uri(uri)
+            .map_err(|rejection| Error::invalid("", rejection.body_text()))?;
         let mut parsed = AuditQuery {
             after: None,
             limit: None,
         };
-        for pair in query.split('&').filter(|p| !p.is_empty()) {
-            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
-            let slot = match key {
+        for (key, value) in pairs {
+            let field = format!("/{}", crate::wire::pointer_segment(&key));
+            let shown = crate::engine::input::escape_unseen(&key);
+            let slot = match key.as_str() {
                 "after" => &mut parsed.after,
                 "limit" => &mut parsed.limit,
-                _ => continue,
+                _ => {
+                    return Err(Error::invalid(
+                        field,
+                        format!("`{shown}` is not a member of this query: the audit trail takes `after` and `limit`"),
+                    ));
+                }
             };
+            if slot.is_some() {
+                return Err(Error::invalid(field, format!("`{shown}` is given twice")));
+            }
             let number = value
                 .parse::<i64>()
-                .map_err(|_| Error::invalid(format!("/{key}"), format!("`{key}` must be an integer")))?;
+                .map_err(|_| Error::invalid(field, format!("`{shown}` must be an integer")))?;
             *slot = Some(number);
         }
         Ok(parsed)
@@ -471,12 +493,12 @@ impl AuditQuery {
     security((), ("token" = [])),
     responses(
         (status = 200, description = "A page of entries", body = AuditPageDto),
-        (status = 422, description = "`after` or `limit` is not an integer, or `limit` is out of range; `field` names it", body = Problem, content_type = PROBLEM_JSON),
+        (status = 422, description = "`after` or `limit` is not an integer, is given twice, or `limit` is out of range; or the query has a member the trail does not take (`actor`): `field` names it", body = Problem, content_type = PROBLEM_JSON),
         doc::problems::Store,
         doc::problems::ReadToken,
     ))]
 async fn audit(State(app): State<AppState>, _: Reader, request: Request) -> Result<Json<AuditPageDto>, Error> {
-    let query = AuditQuery::parse(request.uri().query().unwrap_or_default())?;
+    let query = AuditQuery::parse(request.uri())?;
     let after = query.after.unwrap_or(0);
     let page = app.core.audit(after, query.limit).await?;
     let entries = page.entries.into_iter().map(Into::into).collect();
@@ -620,11 +642,14 @@ async fn put_action(
 
 #[utoipa::path(delete, path = "/v1/actions/{name}", tag = "actions",
     summary = "Remove a verb; readings that use it become `unknown_action`",
+    description = "A verb another verb calls in a method (`get`, which the default `put` calls) is not removed: the answer is 409 naming the verbs that call it, and nothing changes. Change or remove them first.",
     params(("name" = String, Path, description = "The verb")),
     security((), ("token" = [])),
     responses(
         (status = 204, description = "Removed"),
         doc::problems::NoVerb,
+        (status = 409, description = "Other verbs call it in their methods; the detail names them", body = Problem, content_type = PROBLEM_JSON,
+         example = json!({"type": "/problems/verb-in-use", "title": "Verb in use", "status": 409, "detail": "verb `get` is called by `put`: change or remove them first"})),
         doc::problems::Store,
         doc::problems::WriteToken,
     ))]
