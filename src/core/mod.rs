@@ -492,6 +492,7 @@ impl Core {
     /// unless the verb is valid and the library it makes has no loop through its steps.
     pub async fn put_action(&self, name: &str, input: ActionInput, actor: &str) -> Result<(ActionInput, bool), Error> {
         let def = input.validate(name)?;
+        def.check_written_words()?;
         let written = def.to_input();
         let this = name.to_owned();
         let accept = move |all: &[StoredAction]| {

@@ -9,8 +9,12 @@ use std::collections::HashSet;
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 
-use super::input::{Invalid, normalise_phrase};
+use super::input::Invalid;
 use super::term::{Subst, Sym, Term, is_constant_name};
+
+mod words;
+
+use words::{collide, grammar_free, phrases};
 
 /// One step of a method's plan.
 #[derive(Clone, Debug, PartialEq)]
@@ -192,44 +196,13 @@ pub const MAX_JOINERS: usize = 8;
 
 /// Phrases of 1 to `most_words` words of letters, each listed once, normalised; `field` names
 /// the list.
-/// Words that open or stand for a reference, never a joiner between two.
-const DETERMINERS_AND_PRONOUNS: &[&str] = &["the", "a", "an", "this", "that", "my", "your", "it", "me", "us"];
-
-fn phrases(field: &str, list: &[String], most: usize, most_words: usize) -> Result<Vec<String>, Invalid> {
-    if list.len() > most {
-        return Err(Invalid::new(field, format!("at most {most}")));
+impl ActionDef {
+    /// The checks a verb's words meet when it is written (not when a stored one is read, so
+    /// that a library stored before them still loads): no phrase starts with a word the grammar
+    /// reads itself, and no joiner is one.
+    pub fn check_written_words(&self) -> Result<(), Invalid> {
+        grammar_free(&self.words, &self.joiners)
     }
-    let mut out: Vec<String> = Vec::with_capacity(list.len());
-    for (i, text) in list.iter().enumerate() {
-        let phrase = normalise_phrase(text);
-        let count = phrase.split(' ').count();
-        let letters = phrase.chars().all(|c| c.is_ascii_lowercase() || c == ' ');
-        if phrase.is_empty() || phrase.len() > 32 || count > most_words || !letters {
-            let shape = if most_words == 1 { "one word" } else { "1 to 3 words" };
-            return Err(Invalid::new(
-                format!("{field}/{i}"),
-                format!("`{text}` is not {shape} of letters (at most 32 bytes)"),
-            ));
-        }
-        if out.contains(&phrase) {
-            return Err(Invalid::new(
-                format!("{field}/{i}"),
-                format!("`{phrase}` is listed twice"),
-            ));
-        }
-        out.push(phrase);
-    }
-    Ok(out)
-}
-
-/// Whether two verb phrases can name one sentence's verb: the same particles, and a first word
-/// one of them may take inflected as the other ("grab" and "grabbed": "Grabbed the cup." would
-/// be read as whichever verb came first).
-fn collide(a: &str, b: &str) -> bool {
-    let (a_first, a_rest) = a.split_once(' ').unwrap_or((a, ""));
-    let (b_first, b_rest) = b.split_once(' ').unwrap_or((b, ""));
-    a_rest == b_rest
-        && (crate::engine::words::inflects(a_first, b_first) || crate::engine::words::inflects(b_first, a_first))
 }
 
 impl ActionInput {
@@ -281,28 +254,6 @@ impl ActionInput {
         }
         let words = phrases("/words", &self.words, MAX_WORDS, MAX_PHRASE_WORDS)?;
         let joiners = phrases("/joiners", &self.joiners, MAX_JOINERS, 1)?;
-        // "the", "please", "can", "go" would make every sentence's frame a verb; "and", "then",
-        // "or", "not" between two references would join what the grammar reads as steps,
-        // choices and negations.
-        for (i, phrase) in words.iter().enumerate() {
-            let first = phrase.split(' ').next().unwrap_or_default();
-            if crate::engine::words::grammar_word(first) {
-                return Err(Invalid::new(
-                    format!("/words/{i}"),
-                    format!("`{first}` is a word the grammar reads itself; a verb's phrase cannot start with it"),
-                ));
-            }
-        }
-        for (i, joiner) in joiners.iter().enumerate() {
-            if ["and", "then", "or", "not", "please", "but", "so"].contains(&joiner.as_str())
-                || DETERMINERS_AND_PRONOUNS.contains(&joiner.as_str())
-            {
-                return Err(Invalid::new(
-                    format!("/joiners/{i}"),
-                    format!("`{joiner}` is a word the grammar reads itself; it cannot join two references"),
-                ));
-            }
-        }
         if !joiners.is_empty() && params.len() != 2 {
             return Err(Invalid::new("/joiners", "joiners go with a verb of two parameters"));
         }
@@ -605,9 +556,13 @@ impl Library {
         order.sort_by_key(|d| (&*d.name != first, d.name.clone()));
         for def in &order {
             for (i, word) in def.words.iter().enumerate() {
-                let clash = (order.iter())
-                    .filter(|o| o.name != def.name)
-                    .find_map(|o| o.words.iter().find(|w| collide(w, word)).map(|w| (o, w)));
+                // Forms of one word clash only for the verb being written: a library stored
+                // before the rule still loads (its exact clashes never did).
+                let clash = (order.iter()).filter(|o| o.name != def.name).find_map(|o| {
+                    let written = !first.is_empty() && (*def.name == *first || *o.name == *first);
+                    let clashes = |w: &&String| *w == word || written && collide(w, word);
+                    o.words.iter().find(clashes).map(|w| (o, w))
+                });
                 if let Some((other, theirs)) = clash {
                     let message = match theirs == word {
                         true => format!("`{word}` already names the verb `{}`", other.name),

@@ -13,18 +13,18 @@ use rayon::prelude::*;
 
 use super::action::Library;
 use super::algorithm::{decide, kept, plan_kind};
-use super::decision::{Act, DecisionKind, ReferenceParse, Unclear, Understood, Unfound};
 use super::decision::{Decision, Interpretation, LimitKind, Limits, Plan, Style};
+use super::decision::{DecisionKind, Unclear, Understood, Unfound};
 use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::request::{Answer, Directive, Request, SinglePermissible, SoftNorms, Strategy};
 use super::resolve::Reference;
 use super::resolve::{Narrowed, Slot, Template, combinations, slots};
 use super::scene::Scene;
-use super::simulate::{Env, Outcome, did, simulate};
+use super::simulate::{Env, Outcome, simulate};
 use super::speech;
-use super::term::{Sym, Term};
-use super::words::{self, Parse, Understanding};
+use super::term::Term;
+use super::words::{self, Understanding};
 use super::world::{Base, World};
 
 /// How many of the likeliest readings are named when there are too many to name them all.
@@ -149,7 +149,7 @@ pub fn clarify_read(
             &mut describer,
         );
         decision.library_version = library.version;
-        decision.parse = Some(not_a_directive(why));
+        decision.parse = Some(Understood::not_a_directive(why));
         decision
     };
     let deadline = Limits {
@@ -195,56 +195,12 @@ pub fn clarify_read(
             let unclear = decision.parse.as_ref().and_then(|p| p.unclear);
             decision.parse = Some(Understood {
                 unclear,
-                ..understood(&parse, &speaker, scene)
+                ..parse.understood(&speaker, scene)
             });
             Ok(decision)
         }
         Understanding::NotUnderstood { why, words } => Ok(not_read(why, words, None)),
         Understanding::Expired => Ok(not_read(Unclear::Deadline, String::new(), Some(deadline))),
-    }
-}
-
-/// What the answer shows when the words, or the answer to a question, are not a directive.
-fn not_a_directive(why: Unclear) -> Understood {
-    Understood {
-        act: Act::Command,
-        addressee: None,
-        form: None,
-        references: Vec::new(),
-        ignored: Vec::new(),
-        unclear: Some(why),
-    }
-}
-
-/// What the answer shows of a parse: the logical form after pragmatics, one variable per
-/// reference (`want(human,did(self,put(X,Y)))`), and each reference's candidates.
-fn understood(parse: &Parse, speaker: &Term, scene: &Scene) -> Understood {
-    const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
-    let arguments = (0..parse.references.len())
-        .map(|i| {
-            Term::Var(match VARIABLES.get(i) {
-                Some(v) => Sym::from(*v),
-                None => Sym::from(format!("X{i}").as_str()),
-            })
-        })
-        .collect();
-    let action = Term::compound(&parse.verb, arguments);
-    let form = Term::compound("want", vec![speaker.clone(), did(&action)]);
-    Understood {
-        act: parse.act,
-        addressee: parse.addressee.clone(),
-        form: Some(form),
-        references: (parse.references.iter())
-            .map(|p| ReferenceParse {
-                words: p.words.clone(),
-                candidates: (scene.objects.iter())
-                    .filter(|o| p.reference.matches(o))
-                    .map(|o| o.id.to_string())
-                    .collect(),
-            })
-            .collect(),
-        ignored: parse.ignored.clone(),
-        unclear: None,
     }
 }
 
@@ -301,7 +257,7 @@ fn decide_directive(
         };
         let mut decision = finish(plan, Vec::new(), None, &mut describer);
         if asked.kind != DecisionKind::Ask && asked.kind != DecisionKind::Confirm {
-            decision.parse = Some(not_a_directive(Unclear::Unasked));
+            decision.parse = Some(Understood::not_a_directive(Unclear::Unasked));
         }
         return Ok(decision);
     }
@@ -497,7 +453,7 @@ fn decide_directive(
                 words: if matches!(answer, Answer::Yes) { "yes" } else { "no" }.to_owned(),
             };
             let mut decision = finish(plan, Vec::new(), None, &mut describer);
-            decision.parse = Some(not_a_directive(Unclear::Unasked));
+            decision.parse = Some(Understood::not_a_directive(Unclear::Unasked));
             return Ok(decision);
         }
         _ => {}
@@ -706,7 +662,7 @@ fn render(
     } else {
         interpretations.iter_mut().for_each(|i| word(describer, i));
     }
-    let utterance = spoken(&plan, &mut interpretations, style, describer);
+    let utterance = speech::answer_utterance(&plan, &mut interpretations, style, describer);
     Decision {
         kind: plan_kind(&plan),
         utterance,
@@ -721,114 +677,5 @@ fn render(
     }
 }
 
-/// The utterance of `plan`. An object whose description needs its id among the scene's objects
-/// of its type ("the cup (cup1)") is spoken without it when it is the only object of its type
-/// the answer's readings name: there, "the cup" tells it apart. The readings' descriptions and
-/// reasons keep the id, as the contract describes them against the whole scene.
-fn spoken(plan: &Plan, interpretations: &mut [Interpretation], style: Style, describer: &mut Describer<'_>) -> String {
-    let alone = alone(interpretations, describer.scene());
-    if alone.is_empty() {
-        return speech::utterance(plan, interpretations, style, describer);
-    }
-    let kept: Vec<String> = interpretations.iter().map(|i| i.description.clone()).collect();
-    for i in interpretations.iter_mut() {
-        for id in &alone {
-            i.description = i.description.replace(&format!(" ({id})"), "");
-        }
-    }
-    describer.without_ids(alone);
-    let utterance = speech::utterance(plan, interpretations, style, describer);
-    describer.without_ids(Vec::new());
-    for (i, description) in interpretations.iter_mut().zip(kept) {
-        i.description = description;
-    }
-    utterance
-}
-
-/// The objects the readings name with an id in their words that are the only objects of their
-/// type among all the objects the readings name.
-fn alone(interpretations: &[Interpretation], scene: &Scene) -> Vec<Sym> {
-    if !interpretations.iter().any(|i| i.description.contains(')')) {
-        return Vec::new();
-    }
-    let mut named: Vec<&super::scene::Object> = Vec::new();
-    for i in interpretations {
-        for value in &i.values {
-            if let Some(object) = value.name().and_then(|id| scene.object(id))
-                && !named.iter().any(|o| o.id == object.id)
-            {
-                named.push(object);
-            }
-        }
-    }
-    (named.iter())
-        .filter(|o| named.iter().filter(|p| p.kind == o.kind).count() == 1)
-        .filter(|o| {
-            interpretations
-                .iter()
-                .any(|i| i.description.contains(&format!(" ({})", o.id)))
-        })
-        .map(|o| o.id.clone())
-        .collect()
-}
-
 #[cfg(test)]
-mod tests {
-    use proptest::prelude::*;
-
-    use super::Interpretation;
-    use crate::engine::simulate::Outcome;
-    use crate::engine::term::Term;
-
-    /// An unsimulated reading of `get(o<object>)`, scored 0.
-    fn reading(object: usize) -> Interpretation {
-        Interpretation {
-            action: Term::compound("get", vec![Term::constant(&format!("o{object}"))]),
-            description: format!("the cup (o{object})"),
-            score: 0.0,
-            outcome: Outcome::default(),
-            reason_words: Vec::new(),
-            values: Vec::new(),
-        }
-    }
-
-    proptest! {
-        /// Simulating on the pool keeps a prefix of what ran, and exactly `after` chunks besides
-        /// the first run when the deadline passes after `after` looks (each but the first chunk
-        /// looks once, before it starts; one that started finishes), whatever the threads. How
-        /// long that prefix is depends on the scheduler: a thread preempted between taking a
-        /// chunk and looking lets the others look first, so the chunks that ran need not be the
-        /// first ones; with one thread they are.
-        #[test]
-        fn simulating_on_the_pool_keeps_a_prefix_in_order(threads in 1..5usize, after in 0..40usize) {
-            use std::sync::atomic::{AtomicUsize, Ordering};
-            let mut readings: Vec<Interpretation> = (0..4096).map(reading).collect();
-            let looks = AtomicUsize::new(0);
-            let expired = || looks.fetch_add(1, Ordering::Relaxed) >= after;
-            let simulated = |r: &mut Interpretation| r.score = -1.0;
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let kept = pool.install(|| super::simulate_apart(&mut readings, &simulated, &expired));
-            // 4,096 readings make 64 full chunks on every pool size here, so `after` (< 64)
-            // passing looks run exactly `after` + 1 chunks.
-            let chunk = super::SIMULATE_CHUNK;
-            let ran = (after + 1) * chunk;
-            prop_assert!(readings[..kept].iter().all(|r| r.score == -1.0), "kept {kept}: not all simulated");
-            prop_assert_eq!(readings.iter().filter(|r| r.score == -1.0).count(), ran, "after {} looks", after);
-            prop_assert!(kept >= chunk, "the first chunk always runs: kept {kept}");
-            prop_assert!(kept <= ran, "kept {kept} after {after} looks");
-            if threads == 1 {
-                prop_assert_eq!(kept, ran, "one thread takes the chunks in order");
-            }
-        }
-
-        /// Whatever the permutation, position `k` ends holding what was at `order[k]`.
-        #[test]
-        fn permute_puts_each_item_where_the_order_says(order in Just((0..300usize).collect::<Vec<_>>()).prop_shuffle(), len in 0..300usize) {
-            let order: Vec<usize> = order.into_iter().filter(|&i| i < len).collect();
-            let mut items: Vec<String> = (0..len).map(|i| format!("item{i}")).collect();
-            super::permute(&mut items, order.clone());
-            let expected: Vec<String> = order.iter().map(|i| format!("item{i}")).collect();
-            prop_assert_eq!(items, expected);
-        }
-    }
-}
+mod tests;

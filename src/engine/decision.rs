@@ -280,3 +280,17 @@ pub struct Understood {
     /// Why the words are not a directive, when they are not.
     pub unclear: Option<Unclear>,
 }
+
+impl Understood {
+    /// What the answer shows when the words, or the answer to a question, are not a directive.
+    pub fn not_a_directive(why: Unclear) -> Understood {
+        Understood {
+            act: Act::Command,
+            addressee: None,
+            form: None,
+            references: Vec::new(),
+            ignored: Vec::new(),
+            unclear: Some(why),
+        }
+    }
+}

@@ -15,13 +15,14 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d::query::{self, ShapeCastOptions};
 use parry3d::shape::{Ball, Cuboid, Cylinder};
 
-use super::input::{Invalid, RequestLimits, constant, finite, normalise_phrase, pointer_segment, positive};
+use super::input::{Invalid, RequestLimits, constant, finite, pointer_segment, positive};
 use super::term::{Sym, Term};
 
 mod facts;
 mod spoken;
 
-pub use spoken::{invisible, spoken, spoken_into, spoken_is, spoken_onto};
+use spoken::names_of;
+pub use spoken::{MAX_NAMES, invisible, spoken, spoken_into, spoken_is, spoken_onto};
 
 /// The robot itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -265,39 +266,6 @@ impl Object {
             names,
         })
     }
-}
-
-/// Most names one object may have.
-pub const MAX_NAMES: usize = 8;
-
-/// A combining mark: the accent of a decomposed "café" (U+0301), the dot "İstanbul" keeps when
-/// lowered (U+0307). Part of the letter before it, as the words a human types keep it.
-fn combining_mark(c: char) -> bool {
-    matches!(c, '\u{0300}'..='\u{036f}' | '\u{1ab0}'..='\u{1aff}' | '\u{1dc0}'..='\u{1dff}' | '\u{20d0}'..='\u{20ff}' | '\u{fe20}'..='\u{fe2f}')
-}
-
-/// An object's names: 1 to 3 words of letters each, lower-cased, each once.
-fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
-    if given.len() > MAX_NAMES {
-        return Err(Invalid::new("/names", format!("at most {MAX_NAMES} names")));
-    }
-    let mut names: Vec<String> = Vec::with_capacity(given.len());
-    for (i, text) in given.iter().enumerate() {
-        let name = normalise_phrase(text);
-        let words = name.split(' ').count();
-        let letters = name.chars().all(|c| c.is_alphabetic() || c == ' ' || combining_mark(c));
-        let starts_with_letter = name.chars().next().is_some_and(char::is_alphabetic);
-        if name.is_empty() || name.len() > 64 || words > 3 || !letters || !starts_with_letter {
-            return Err(Invalid::new(
-                format!("/names/{i}"),
-                format!("`{text}` is not a name of 1 to 3 words of letters"),
-            ));
-        }
-        if !names.contains(&name) {
-            names.push(name);
-        }
-    }
-    Ok(names)
 }
 
 impl Scene {

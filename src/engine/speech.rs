@@ -9,9 +9,19 @@ use std::borrow::Cow;
 use super::decision::{Interpretation, Plan, Style, Unclear, Unfound};
 use super::describe::{Describer, reading_with};
 use super::norms::Force;
-use super::scene::{invisible, spoken, spoken_onto};
+use super::scene::spoken;
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
+
+mod ids;
+mod norm;
+mod soft;
+
+pub use ids::answer_utterance;
+use norm::said_of;
+use soft::{
+    although, dispreferred_reasons, dispreferred_words, fact_words, natural_rather_not, note_words, soft_words,
+};
 
 /// The reason a refusal or an explanation speaks: the first that is not a soft norm's. A reading
 /// the plan turns down always has one; the deadline's reason stands in should it not.
@@ -281,109 +291,6 @@ pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String 
     }
 }
 
-/// A forbidden norm's reason in the words of the norm itself, where its kind alone would say
-/// more than it does: a conditional norm is spoken by its note, else by what made it apply
-/// ("getting the knife is forbidden for a child"); in the natural style an unconditional norm
-/// with a note is spoken by its note too. `None`: the kind's own words say exactly the norm.
-fn said_of(reason: &Reason, style: Style, describer: &mut Describer<'_>) -> Option<String> {
-    let (words, subject) = match &reason.cause {
-        Cause::ForbiddenAction { step, words, .. } => (words.as_deref()?, doing_step(step, describer)),
-        Cause::ForbiddenState { fact, words } => (words.as_deref()?, state_words(fact, describer)),
-        _ => return None,
-    };
-    if !words.conditional && style == Style::Diarc {
-        return None;
-    }
-    if let Some(note) = words.note.as_deref().and_then(note_words) {
-        return Some(note);
-    }
-    if !words.conditional {
-        return None;
-    }
-    let grave = reason.severity.unwrap_or(3) >= 4;
-    let rule = match style {
-        Style::Natural if !grave => "is not allowed",
-        _ => "is forbidden",
-    };
-    let mut said = format!("{subject} {rule}");
-    // A fact the object's own description already says ("the fragile vase" is fragile) is not
-    // said again.
-    let mut facts = Vec::new();
-    for fact in &words.about {
-        if !described_by(fact, describer)
-            && let Some(said) = fact_words(fact, describer)
-        {
-            facts.push(said);
-        }
-    }
-    if !facts.is_empty() {
-        said.push_str(" when ");
-        said.push_str(&listed(&unique(facts), "and"));
-    }
-    if let Some(role) = words.roles.first() {
-        said.push_str(&format!(" for {}", with_article(&spoken(role))));
-    }
-    if let Some(role) = words.exempt_roles.first() {
-        said.push_str(&format!(" except for {}", with_article(&spoken(role))));
-    }
-    if let Some(context) = &words.context {
-        // A context is any name ("tidy", "ward"): said as a context, never as a place.
-        said.push_str(&format!(" in the {} context", spoken(context)));
-    }
-    Some(said)
-}
-
-/// Whether a fact is a word of its object's description: `fragile(vase1)` of "the fragile vase",
-/// `color(mug1,red)` of "the red mug" (an attribute's value).
-fn described_by(fact: &Term, describer: &mut Describer<'_>) -> bool {
-    let (word, object) = match (fact.name(), fact.args()) {
-        (Some(functor), [object]) => (spoken(functor), object),
-        (Some(functor), [object, value]) if object.name().is_some_and(|id| describer.has_attribute(id, functor)) => {
-            (describer.argument(value), object)
-        }
-        _ => return false,
-    };
-    let said = describer.argument(object);
-    let words: Vec<&str> = said.split(' ').collect();
-    words.windows(word.split(' ').count()).any(|w| w.join(" ") == word)
-}
-
-/// "a child", "an owner".
-fn with_article(noun: &str) -> String {
-    match noun.starts_with(['a', 'e', 'i', 'o', 'u']) {
-        true => format!("an {noun}"),
-        false => format!("a {noun}"),
-    }
-}
-
-/// A step as a gerund with its arguments described: "getting the knife", "putting the fork in
-/// the microwave".
-fn doing_step(step: &Term, describer: &mut Describer<'_>) -> String {
-    let verb = step.name().map(|n| gerund(n)).unwrap_or_else(|| step.to_string());
-    let arguments = describer.arguments(step);
-    match arguments.is_empty() {
-        true => verb,
-        false => format!("{verb} {arguments}"),
-    }
-}
-
-/// A forbidden state as the subject of a sentence: `did(self,get(knife1))` as the step it says
-/// was done ("getting the knife"), `holding(self,X)` as what the robot would be doing
-/// ("holding the vase"), any other fact as what would be ("the fork being in the microwave").
-fn state_words(fact: &Term, describer: &mut Describer<'_>) -> String {
-    let mine = |t: &Term| t.name().is_some_and(|id| describer.is_agent(id));
-    match (fact.name().map(|n| &**n), fact.args()) {
-        (Some("did"), [_, step]) => doing_step(step, describer),
-        // `holding(self,X)`: "holding the vase".
-        (Some(functor), [me, other]) if mine(me) => format!("{} {}", spoken(functor), describer.argument(other)),
-        // "the box is open" as a subject: "the box being open".
-        _ => match fact_words(fact, describer) {
-            Some(words) => words.replacen(" is ", " being ", 1),
-            None => fact.to_string(),
-        },
-    }
-}
-
 /// The words of `items`, each once, in the order first said: two norms that say the same thing
 /// are said once.
 fn unique(items: Vec<String>) -> Vec<String> {
@@ -477,146 +384,6 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
     })
 }
 
-/// A soft reason in words, the same in both styles: the norm's `when` facts about the reading's
-/// objects ("the mug is dirty"), else its note, else "it is discouraged" / "it is preferred".
-fn soft_words(reason: &Reason, describer: &mut Describer<'_>) -> String {
-    soft_words_named(reason, describer).unwrap_or_else(|| match reason.force() {
-        Some(Force::Preferred) => "it is preferred".to_owned(),
-        _ => "it is discouraged".to_owned(),
-    })
-}
-
-/// The words a soft reason names: its facts about the reading's objects, else its note; `None`
-/// when it has neither.
-fn soft_words_named(reason: &Reason, describer: &mut Describer<'_>) -> Option<String> {
-    let Cause::Soft { about, note, .. } = &reason.cause else {
-        return None;
-    };
-    let mut facts = (about.iter()).filter_map(|fact| fact_words(fact, describer));
-    let Some(first) = facts.next() else {
-        return note.as_deref().and_then(note_words);
-    };
-    let Some(second) = facts.next() else {
-        return Some(first);
-    };
-    let all: Vec<String> = [first, second].into_iter().chain(facts).collect();
-    Some(listed(&unique(all), "and"))
-}
-
-/// A norm's note as words inside a sentence. The note is the operator's text, stored as written;
-/// what is spoken of it carries no control or direction-changing characters (a NUL or a U+202E
-/// would reach a listener's screen or speech engine), its spaces are single and it loses its
-/// closing marks (a full stop, "!" or "?"), since the sentence supplies its own. `None` when nothing is left.
-fn note_words(note: &str) -> Option<String> {
-    let mut words = String::with_capacity(note.len());
-    for c in note.chars() {
-        // Whitespace and control characters become one space; what shows nothing is left out.
-        if c.is_whitespace() || c.is_control() {
-            if !words.is_empty() && !words.ends_with(' ') {
-                words.push(' ');
-            }
-        } else if !invisible(c) {
-            words.push(c);
-        }
-    }
-    // The sentence around the note closes it: its own closing marks would double ("careful!.").
-    let kept = (words.trim_end())
-        .trim_end_matches(['.', '!', '?', '…'])
-        .trim_end()
-        .len();
-    words.truncate(kept);
-    (!words.is_empty()).then_some(words)
-}
-
-/// A fact about an object, in words: `dirty(mug1)` → "the mug is dirty", `color(mug1,red)` →
-/// "the color of the mug is red", `on(plate1,floor1)` → "the plate is on the floor". (An
-/// object's own type is never among them: the simulation leaves it out.)
-fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<String> {
-    let functor = fact.name()?;
-    let subject_id = fact.args().first()?.name()?;
-    let mut words = String::with_capacity(48);
-    // The robot speaks of itself in the first person: "I am holding the mug".
-    let me = describer.is_agent(subject_id);
-    match fact.args() {
-        [_] if me => {
-            words.push_str("I am ");
-            spoken_onto(functor, &mut words);
-        }
-        [_, other] if me => {
-            words.push_str("I am ");
-            spoken_onto(functor, &mut words);
-            words.push(' ');
-            describer.argument_into(other, &mut words);
-        }
-        [subject] => {
-            describer.argument_into(subject, &mut words);
-            words.push_str(" is ");
-            spoken_onto(functor, &mut words);
-        }
-        [subject, value] if describer.has_attribute(subject_id, functor) => {
-            words.push_str("the ");
-            spoken_onto(functor, &mut words);
-            words.push_str(" of ");
-            describer.argument_into(subject, &mut words);
-            words.push_str(" is ");
-            describer.argument_into(value, &mut words);
-        }
-        [subject, other] => {
-            describer.argument_into(subject, &mut words);
-            words.push_str(" is ");
-            spoken_onto(functor, &mut words);
-            words.push(' ');
-            describer.argument_into(other, &mut words);
-        }
-        _ => return Some(fact.to_string()),
-    }
-    Some(words)
-}
-
-/// What a reading that breaks a discouraged norm is still done "although": the words of each
-/// discouraged reason, and the greatest severity among them.
-fn although(i: &Interpretation, describer: &mut Describer<'_>) -> Option<(String, u8)> {
-    let broken: Vec<&Reason> = i.outcome.discouraged().collect();
-    let severity = broken.iter().filter_map(|r| r.severity).max()?;
-    let words: Vec<String> = broken.iter().map(|r| soft_words(r, describer)).collect();
-    Some((listed(&unique(words), "and"), severity))
-}
-
-/// Why `dispreferred` scores below `chosen`, and how strongly: the discouraged norms it breaks
-/// that `chosen` does not, else the preferred norms `chosen` meets that it does not ("the blue
-/// mug is clean"), else every discouraged norm it breaks.
-fn dispreferred_reasons<'a>(dispreferred: &'a Interpretation, chosen: &'a Interpretation) -> Vec<&'a Reason> {
-    let has = |i: &Interpretation, r: &Reason| i.outcome.reasons.iter().any(|s| s.is_soft() && s.norm_id == r.norm_id);
-    let own: Vec<&Reason> = dispreferred.outcome.discouraged().filter(|r| !has(chosen, r)).collect();
-    if !own.is_empty() {
-        return own;
-    }
-    let missed: Vec<&Reason> = (chosen.outcome.reasons.iter())
-        .filter(|r| r.force() == Some(Force::Preferred) && !has(dispreferred, r))
-        .collect();
-    if !missed.is_empty() {
-        return missed;
-    }
-    dispreferred.outcome.discouraged().collect()
-}
-
-/// The words of `reasons` (from [`dispreferred_reasons`]), said of the dispreferred reading
-/// itself: its own discouraged norms ("the dirty mug is dirty"); when what sets it below is a
-/// preference the chosen reading meets, only that it is less preferred than that reading ("it
-/// is less preferred than getting the plate"), never the chosen reading's reasons as its own.
-fn dispreferred_words(reasons: &[&Reason], chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
-    if reasons.iter().any(|r| r.force() == Some(Force::Preferred)) {
-        return format!("it is less preferred than {}", doing(chosen));
-    }
-    let words: Vec<String> = (reasons.iter())
-        .map(|r| soft_words_named(r, describer).unwrap_or_else(|| "it is discouraged".to_owned()))
-        .collect();
-    if words.is_empty() {
-        return "it is discouraged".to_owned();
-    }
-    listed(&unique(words), "and")
-}
-
 /// A reading in words: "get the plastic vase", its verb spoken and then its description.
 pub(crate) fn reading(i: &Interpretation) -> String {
     reading_with(action_of(i), &i.description)
@@ -634,19 +401,6 @@ fn doing(i: &Interpretation) -> String {
         (Some(verb), true) => verb,
         (Some(verb), false) => format!("{verb} {}", i.description),
         (None, _) => reading(i),
-    }
-}
-
-/// A dispreferred reading in fluent words; the strength of the norms behind it sets the tone
-/// (1–2 mild, 3 plain, 4–5 strong).
-fn natural_rather_not(dispreferred: &Interpretation, chosen: &Interpretation, describer: &mut Describer<'_>) -> String {
-    let reasons = dispreferred_reasons(dispreferred, chosen);
-    let why = dispreferred_words(&reasons, chosen, describer);
-    let strength = (reasons.iter()).filter_map(|r| r.severity).max().unwrap_or(3);
-    match strength {
-        1 | 2 => format!("I'd slightly prefer not to {}: {why}.", reading(dispreferred)),
-        3 => format!("I'd rather not {}: {why}.", reading(dispreferred)),
-        _ => format!("I really shouldn't {}: {why}.", reading(dispreferred)),
     }
 }
 

@@ -278,3 +278,41 @@ async fn words_are_admitted_by_the_readings_they_give() {
     }
     assert_eq!(refused, 0, "words for one reading were refused as overload");
 }
+
+/// Finding 3.10: `snatch` could take "grabbed" while "grab" names `get`, and "the" was taken as
+/// a verb's word and "and" as a joiner. Over REST, each is a 422 naming the word's field, and
+/// nothing is stored.
+#[tokio::test]
+async fn verb_words_that_clash_once_inflected_or_are_the_grammars_are_refused() {
+    let app = spawn_app().await;
+    for (name, verb, field) in [
+        (
+            "snatch",
+            json!({"parameters": ["X"], "methods": [{}], "words": ["grabbed"]}),
+            "/words/0",
+        ),
+        (
+            "odd",
+            json!({"parameters": ["X"], "methods": [{}], "words": ["the thing"]}),
+            "/words/0",
+        ),
+        (
+            "fling",
+            json!({"parameters": ["X", "Y"], "methods": [{}], "words": ["fling"], "joiners": ["and"]}),
+            "/joiners/0",
+        ),
+    ] {
+        let response = app
+            .client
+            .put(app.url(&format!("/v1/actions/{name}")))
+            .json(&verb)
+            .send()
+            .await
+            .unwrap();
+        crate::helpers::assert_problem(response, reqwest::StatusCode::UNPROCESSABLE_ENTITY, Some(field)).await;
+        assert_eq!(
+            app.get(&format!("/v1/actions/{name}")).await.status(),
+            reqwest::StatusCode::NOT_FOUND
+        );
+    }
+}

@@ -1,7 +1,9 @@
 //! Names as a human speaks them: `cash_box` is "cash box", `pointTo` "point to". What the
 //! scene's types, properties and values, and the verbs, are called in words.
 //!
-//! Owns: the one spoken form of a name. Must not: know which names exist (the lexicon does).
+//! Owns: the one spoken form of a name, and what an object's names may be. Must not: know which names exist (the lexicon does).
+
+use crate::engine::input::{Invalid, normalise_phrase};
 
 /// Characters that show nothing, yet change what a listener's screen or speech engine makes of
 /// the text around them: control characters, zero-width characters and marks, and the
@@ -67,6 +69,39 @@ pub fn spoken_onto(name: &str, out: &mut String) {
     }
     let kept = start + out[start..].trim_end().len();
     out.truncate(kept);
+}
+
+/// Most names one object may have.
+pub const MAX_NAMES: usize = 8;
+
+/// A combining mark: the accent of a decomposed "café" (U+0301), the dot "İstanbul" keeps when
+/// lowered (U+0307). Part of the letter before it, as the words a human types keep it.
+fn combining_mark(c: char) -> bool {
+    matches!(c, '\u{0300}'..='\u{036f}' | '\u{1ab0}'..='\u{1aff}' | '\u{1dc0}'..='\u{1dff}' | '\u{20d0}'..='\u{20ff}' | '\u{fe20}'..='\u{fe2f}')
+}
+
+/// An object's names: 1 to 3 words of letters each, lower-cased, each once.
+pub(super) fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
+    if given.len() > MAX_NAMES {
+        return Err(Invalid::new("/names", format!("at most {MAX_NAMES} names")));
+    }
+    let mut names: Vec<String> = Vec::with_capacity(given.len());
+    for (i, text) in given.iter().enumerate() {
+        let name = normalise_phrase(text);
+        let words = name.split(' ').count();
+        let letters = name.chars().all(|c| c.is_alphabetic() || c == ' ' || combining_mark(c));
+        let starts_with_letter = name.chars().next().is_some_and(char::is_alphabetic);
+        if name.is_empty() || name.len() > 64 || words > 3 || !letters || !starts_with_letter {
+            return Err(Invalid::new(
+                format!("/names/{i}"),
+                format!("`{text}` is not a name of 1 to 3 words of letters"),
+            ));
+        }
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    Ok(names)
 }
 
 #[cfg(test)]

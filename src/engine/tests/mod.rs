@@ -33,6 +33,7 @@ mod shapes;
 mod soft;
 mod verbs;
 mod words;
+mod words_hostile;
 
 use fixtures::*;
 use runner::*;

@@ -19,13 +19,13 @@
 //! not understood.
 
 use super::lexicon::{Lexicon, Noun, inflects};
+use super::tokens::{segments, tokens};
 use super::{Parse, Phrase, Understanding};
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
-use crate::engine::request::{Answer, Directive};
+use crate::engine::request::Directive;
 use crate::engine::resolve::{Reference, Sense};
-use crate::engine::scene::invisible;
 
 const DETERMINERS: &[&str] = &["the", "a", "an", "this", "that", "my", "your"];
 const PRONOUNS: &[&str] = &["it", "this", "that"];
@@ -167,81 +167,7 @@ pub fn grammar_word(word: &str) -> bool {
         || MANNER.iter().any(|m| m[0] == word)
 }
 
-/// One word of the text, lower case, and whether a comma followed it.
-#[derive(Clone, Debug)]
-struct Token {
-    word: String,
-    comma: bool,
-}
-
-/// Words, lower case; commas remembered (a vocative or a narrowing is set off by one). The
-/// punctuation of a sentence is dropped where it stands at a word's edge, and invisible
-/// characters (zero-width, direction controls) wherever they are; a mark inside a word is part
-/// of it ("1.5", "dr.pepper", "c.1"), as is any other character (a sign, a symbol, an emoji):
-/// "the ★ vase" has a word nobody knows, which must narrow the reference to nothing.
-fn tokens(text: &str) -> Vec<Token> {
-    let mut out: Vec<Token> = Vec::new();
-    let comma_after_last = |out: &mut Vec<Token>| {
-        if let Some(last) = out.last_mut() {
-            last.comma = true;
-        }
-    };
-    let mut chars: Vec<char> = Vec::new();
-    for piece in text.split_whitespace() {
-        chars.clear();
-        chars.extend(piece.chars().filter(|&c| !invisible(c)));
-        let mark = |c: char| c == ',' || is_punctuation(c);
-        let (Some(first), Some(last)) = (
-            chars.iter().position(|&c| !mark(c)),
-            chars.iter().rposition(|&c| !mark(c)),
-        ) else {
-            if chars.contains(&',') {
-                comma_after_last(&mut out);
-            }
-            continue;
-        };
-        if chars[..first].contains(&',') {
-            comma_after_last(&mut out);
-        }
-        let mut word = String::new();
-        for i in first..=last {
-            match chars[i] {
-                // A comma between digits is a decimal mark ("1,5"); elsewhere it sets words off.
-                ',' if !(chars[i - 1].is_ascii_digit() && chars[i + 1].is_ascii_digit()) => {
-                    if word.is_empty() {
-                        comma_after_last(&mut out);
-                    } else {
-                        out.push(Token {
-                            word: std::mem::take(&mut word),
-                            comma: true,
-                        });
-                    }
-                }
-                // Most words are ASCII: lowered without `to_lowercase`'s iterator.
-                c if c.is_ascii_alphanumeric() => word.push(c.to_ascii_lowercase()),
-                '\'' | '’' => word.push('\''),
-                c => word.extend(c.to_lowercase()),
-            }
-        }
-        if !word.is_empty() {
-            out.push(Token {
-                word,
-                comma: chars[last + 1..].contains(&','),
-            });
-        }
-    }
-    out
-}
-
-/// Marks that end or set off a sentence or a quotation, which carry no word: ASCII's and the
-/// common ones of other scripts.
-const PUNCTUATION: &str = ".!?;:\"`()[]{}‘“”„«»‹›…¡¿–—。、，！？：；（）「」『』";
-
-fn is_punctuation(c: char) -> bool {
-    PUNCTUATION.contains(c)
-}
-
-fn is(words: &[String], at: usize, expected: &[&str]) -> bool {
+pub(super) fn is(words: &[String], at: usize, expected: &[&str]) -> bool {
     expected.len() <= words.len().saturating_sub(at) && expected.iter().zip(&words[at..]).all(|(e, w)| e == w)
 }
 
@@ -312,20 +238,6 @@ fn is_name(words: &[String], lexicon: &Lexicon) -> bool {
                 && !lexicon.verbs.iter().any(|p| inflects(w, &p.words[0]))
                 && !lexicon.knows(w)
         })
-}
-
-/// Splits tokens into the comma-separated parts of the sentence.
-fn segments(tokens: Vec<Token>) -> Vec<Vec<String>> {
-    let mut out: Vec<Vec<String>> = vec![Vec::new()];
-    for token in tokens {
-        let comma = token.comma;
-        out.last_mut().expect("never empty").push(token.word);
-        if comma {
-            out.push(Vec::new());
-        }
-    }
-    out.retain(|s| !s.is_empty());
-    out
 }
 
 /// A narrowing of the last reference, set off after it: the words, and whether they must be
@@ -566,7 +478,7 @@ fn narrowed(base: Phrase, narrowing: Narrowing, lexicon: &Lexicon) -> Phrase {
 }
 
 /// A reference, or, where it has no noun, adjectives alone: "red" is what is red.
-fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Phrase {
+pub(super) fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Phrase {
     let phrase = reference(words, lexicon);
     if !matches!(phrase.reference, Reference::Nothing { .. }) || words.is_empty() {
         return phrase;
@@ -666,7 +578,7 @@ fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String> {
 /// One reference's words. Every word must be placed, as determiner, adjective or noun; one
 /// that is not makes the reference match nothing, and one the grammar could not place at all
 /// is said back ("pls" in "the mug pls").
-fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
+pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let words = span.join(" ");
     if span.len() == 1 && PRONOUNS.contains(&span[0].as_str())
         || span.len() == 2 && ["this", "that"].contains(&span[0].as_str()) && span[1] == "one"
@@ -746,123 +658,4 @@ fn unplaced(body: &[String], lexicon: &Lexicon) -> Option<String> {
     body.iter()
         .find(|w| STRUCTURE.contains(&w.as_str()) || plural_of_known(w))
         .cloned()
-}
-
-const YES: &[&[&str]] = &[
-    &["yes"],
-    &["yeah"],
-    &["yep"],
-    &["sure"],
-    &["ok"],
-    &["okay"],
-    &["do", "it"],
-    &["go", "ahead"],
-];
-const NO: &[&[&str]] = &[
-    &["no"],
-    &["nope"],
-    &["don't"],
-    &["dont"],
-    &["no", "thanks"],
-    &["no", "thank", "you"],
-];
-const ORDINALS: &[(&str, &str)] = &[
-    ("first", "1st"),
-    ("second", "2nd"),
-    ("third", "3rd"),
-    ("fourth", "4th"),
-    ("fifth", "5th"),
-    ("sixth", "6th"),
-    ("seventh", "7th"),
-    ("eighth", "8th"),
-    ("ninth", "9th"),
-    ("tenth", "10th"),
-];
-
-/// Answers that take back what was asked: nothing is to be done.
-const CANCEL: &[&[&str]] = &[
-    &["never", "mind"],
-    &["nevermind"],
-    &["cancel"],
-    &["cancel", "that"],
-    &["forget", "it"],
-    &["neither"],
-    &["none"],
-    &["none", "of", "them"],
-    &["nothing"],
-    &["stop"],
-];
-
-/// A follow-up answer's words; see `words::understand_answer`.
-pub fn read_answer(text: &str, lexicon: &Lexicon) -> Answer {
-    // An id answers as written, exactly: never lowered, never stripped inside ("c.1" is not
-    // "c1"); only the sentence's closing mark may follow it.
-    let trimmed = text.trim();
-    for id in [trimmed, trimmed.trim_end_matches(['.', '!', '?'])] {
-        if lexicon.scene().object(id).is_some() {
-            return Answer::Id(id.to_owned());
-        }
-    }
-    let mut words: Vec<String> = tokens(text).into_iter().map(|t| t.word).collect();
-    words.retain(|w| w != "please");
-    for frame in [&["i", "mean"][..], &["i", "meant"]] {
-        if is(&words, 0, frame) {
-            words.drain(..frame.len());
-        }
-    }
-    if YES.iter().any(|y| words == *y) {
-        return Answer::Yes;
-    }
-    if NO.iter().any(|n| words == *n) {
-        return Answer::No;
-    }
-    if CANCEL.iter().any(|c| words == *c) {
-        return Answer::Cancel(words.join(" "));
-    }
-    // "the second one", "second", "the 2nd".
-    let body: Vec<&str> = words
-        .iter()
-        .map(String::as_str)
-        .skip_while(|w| *w == "the")
-        .filter(|w| *w != "one")
-        .collect();
-    if let [ordinal] = body.as_slice()
-        && let Some(n) = ORDINALS
-            .iter()
-            .position(|(word, short)| word == ordinal || short == ordinal)
-    {
-        return Answer::Choice(n);
-    }
-    if words.is_empty() {
-        return Answer::Reference(Reference::Nothing {
-            words: String::new(),
-            unplaced: None,
-        });
-    }
-    // "not the red one": every reading but those it names.
-    if words[0] == "not" && words.len() > 1 {
-        let by = reference_or_adjectives(&words[1..], lexicon);
-        let any = Reference::Described {
-            kind: None,
-            attributes: Default::default(),
-            properties: Vec::new(),
-        };
-        return Answer::Reference(Reference::Narrowed {
-            base: Box::new(any),
-            by: Box::new(by.reference),
-            keep: false,
-            words: words.join(" "),
-        });
-    }
-    // A whole directive of a verb the robot knows ("Get the vase instead."): decided afresh.
-    if let Understanding::Directive { parse, .. } = read(text, lexicon)
-        && lexicon.verbs.iter().any(|p| p.verb == parse.verb)
-    {
-        return Answer::Directive(text.to_owned());
-    }
-    match reference(&words, lexicon).reference {
-        // An object spoken of by itself ("it") names nothing in an answer.
-        Reference::Pronoun { words } => Answer::Reference(Reference::Nothing { words, unplaced: None }),
-        other => Answer::Reference(other),
-    }
 }

@@ -7,17 +7,21 @@
 //! reference and is not known makes that reference match nothing; what is not a directive at
 //! all is said to be so (`NotUnderstood`), never read as the nearest directive.
 
+mod answer;
 mod grammar;
 mod lexicon;
+mod tokens;
 
 pub use grammar::grammar_word;
 pub use lexicon::inflects;
 
 use super::action::Library;
-use super::decision::{Act, Unclear};
+use super::decision::{Act, ReferenceParse, Unclear, Understood};
 use super::request::{Answer, Directive};
 use super::resolve::Reference;
 use super::scene::Scene;
+use super::simulate::did;
+use super::term::{Sym, Term};
 
 /// One reference as the human said it.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,6 +42,40 @@ pub struct Parse {
     pub references: Vec<Phrase>,
     /// Trailing words that select no object and were left out ("for reheating", "now").
     pub ignored: Vec<String>,
+}
+
+impl Parse {
+    /// What the answer shows of a parse: the logical form after pragmatics, one variable per
+    /// reference (`want(human,did(self,put(X,Y)))`), and each reference's candidates.
+    pub fn understood(&self, speaker: &Term, scene: &Scene) -> Understood {
+        const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
+        let arguments = (0..self.references.len())
+            .map(|i| {
+                Term::Var(match VARIABLES.get(i) {
+                    Some(v) => Sym::from(*v),
+                    None => Sym::from(format!("X{i}").as_str()),
+                })
+            })
+            .collect();
+        let action = Term::compound(&self.verb, arguments);
+        let form = Term::compound("want", vec![speaker.clone(), did(&action)]);
+        Understood {
+            act: self.act,
+            addressee: self.addressee.clone(),
+            form: Some(form),
+            references: (self.references.iter())
+                .map(|p| ReferenceParse {
+                    words: p.words.clone(),
+                    candidates: (scene.objects.iter())
+                        .filter(|o| p.reference.matches(o))
+                        .map(|o| o.id.to_string())
+                        .collect(),
+                })
+                .collect(),
+            ignored: self.ignored.clone(),
+            unclear: None,
+        }
+    }
 }
 
 /// The outcome of reading the words.
@@ -94,5 +132,5 @@ fn point_at(reference: &mut Reference, id: &str) -> bool {
 /// directive of a known verb ("Get the vase."), or a reference ("the red one", whose "one" takes
 /// the question's type). Words that are none of these are a reference that matches nothing.
 pub fn understand_answer(text: &str, scene: &Scene, library: &Library, expired: &dyn Fn() -> bool) -> Answer {
-    grammar::read_answer(text, &lexicon::Lexicon::new(scene, library, expired))
+    answer::read_answer(text, &lexicon::Lexicon::new(scene, library, expired))
 }
