@@ -167,6 +167,7 @@ fn directive(value: &Value, at: &str) -> Result<pb::Directive> {
         form: f.string("form")?,
         bindings,
         text: f.string("text")?,
+        joiner: f.string("joiner")?,
     })
 }
 

@@ -192,6 +192,7 @@ impl From<EngineError> for Error {
             EngineError::NothingAsked { .. } | EngineError::AskedWhich { .. } => {
                 Error::invalid("/answer", e.to_string())
             }
+            EngineError::BadJoiner { .. } => Error::invalid("/directive/joiner", e.to_string()),
         }
     }
 }

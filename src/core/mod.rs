@@ -66,7 +66,7 @@ impl Default for Settings {
 /// yet read, the costliest verb's.
 fn expansion_of(directive: &Directive, library: &Library) -> u64 {
     match directive {
-        Directive::Action { verb, arguments } => library.expansion(verb, arguments.len()),
+        Directive::Action { verb, arguments, .. } => library.expansion(verb, arguments.len()),
         Directive::Form { action, .. } => library.expansion(action.name().map_or("", |n| &**n), action.arity()),
         Directive::Words { .. } => library.most_expansion(),
     }

@@ -61,6 +61,9 @@ pub enum EngineError {
     BadChoice { choice: usize, offered: usize },
     #[error("the original request asks nothing to choose from: it is decided `{decision}`")]
     NothingAsked { decision: &'static str },
+    /// A structured directive's joiner that its verb does not take.
+    #[error("`{joiner}` does not join the arguments of `{verb}`")]
+    BadJoiner { verb: String, joiner: String },
     /// The question asked which thing was meant, naming no readings: a choice by position has
     /// nothing to count.
     #[error(
@@ -262,6 +265,30 @@ fn decide_directive(
         return Ok(decision);
     }
 
+    // A joiner the human said instead of the verb's own is spoken, and may change the relation
+    // the verb makes true ("put X in Y").
+    let relation = match directive {
+        Directive::Action {
+            verb,
+            arguments,
+            joiner: Some(said),
+        } => match library.get(verb, arguments.len()) {
+            Some(def) if !def.takes_joiner(said) => {
+                return Err(EngineError::BadJoiner {
+                    verb: verb.clone(),
+                    joiner: said.clone(),
+                });
+            }
+            Some(def) => {
+                if def.joiner.as_deref() != Some(said.as_str()) {
+                    describer.say_joiner(def.name.clone(), said.clone());
+                }
+                def.relation_for(said)
+            }
+            None => None,
+        },
+        _ => None,
+    };
     let (template, mut slots) = slots(directive, scene);
     let missing: Vec<Unfound> = slots
         .iter()
@@ -377,7 +404,7 @@ fn decide_directive(
     };
     let total = readings.len();
     let simulated = {
-        let env = Env::new(scene, norms, library, scope, &base, expired);
+        let env = Env::new(scene, norms, library, scope, &base, relation, expired);
         let world = World::new(&base);
         let simulate_one = |reading: &mut Interpretation| {
             (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);

@@ -112,6 +112,9 @@ pub struct Describer<'a> {
     /// Objects whose id is left out of what is spoken: each is the only one of its type among
     /// the readings an answer speaks of, so its description serves without it.
     alone: Vec<Sym>,
+    /// The joiner the human said between this verb's arguments ("put the fork in the
+    /// microwave"), spoken instead of the verb's own.
+    said: Option<(Sym, String)>,
 }
 
 impl<'a> Describer<'a> {
@@ -123,6 +126,7 @@ impl<'a> Describer<'a> {
             kinds: Arc::default(),
             looks: FxHashMap::default(),
             alone: Vec::new(),
+            said: None,
         }
     }
 
@@ -136,11 +140,17 @@ impl<'a> Describer<'a> {
             kinds: self.kinds.clone(),
             looks: FxHashMap::default(),
             alone: self.alone.clone(),
+            said: self.said.clone(),
         }
     }
 
     pub fn scene(&self) -> &'a Scene {
         self.scene
+    }
+
+    /// Speaks `joiner` between `verb`'s arguments from now on, as the human said it.
+    pub fn say_joiner(&mut self, verb: Sym, joiner: String) {
+        self.said = Some((verb, joiner));
     }
 
     /// Leaves the ids of `objects` out of what is spoken from now on ("the cup", not "the cup
@@ -229,13 +239,18 @@ impl<'a> Describer<'a> {
     /// [`Describer::arguments`], appended to `out`.
     fn arguments_onto(&mut self, action: &Term, out: &mut String) {
         let library = self.library;
-        let joiner = (library.lookup(action))
-            .and_then(|def| def.joiner.as_deref())
-            .unwrap_or("and");
+        let said = (self.said.as_ref()).filter(|(verb, _)| action.name() == Some(verb));
+        let joiner: std::borrow::Cow<'_, str> = match said {
+            Some((_, joiner)) => joiner.clone().into(),
+            None => (library.lookup(action))
+                .and_then(|def| def.joiner.as_deref())
+                .unwrap_or("and")
+                .into(),
+        };
         for (i, arg) in action.args().iter().enumerate() {
             if i > 0 {
                 out.push(' ');
-                out.push_str(joiner);
+                out.push_str(&joiner);
                 out.push(' ');
             }
             self.argument_into(arg, out);

@@ -95,7 +95,13 @@ impl Default for Options {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Directive {
     /// A verb and one reference per argument; readings are every combination of candidates.
-    Action { verb: String, arguments: Vec<Reference> },
+    /// `joiner`: the word said between two arguments ("in"), when not the verb's own ("on"):
+    /// it is spoken, and a joiner naming another relation makes that relation the verb's effect.
+    Action {
+        verb: String,
+        arguments: Vec<Reference>,
+        joiner: Option<String>,
+    },
     /// An action with variables, already unwrapped from `want(S,did(self,...))` by the caller
     /// (`get(X)`), and each variable's candidates, in the order the variables first appear.
     Form {
@@ -183,6 +189,8 @@ pub struct DirectiveInput {
     /// The human's words: read as the directive when neither `action` nor `form` is given,
     /// else only echoed.
     pub text: Option<String>,
+    /// With `action`: the word said between its two arguments, when not the verb's own.
+    pub joiner: Option<String>,
 }
 
 /// A follow-up answer as a request gives it: exactly one of the three.
@@ -413,7 +421,7 @@ impl Directive {
         match (input.action, input.form) {
             (Some(_), Some(_)) => Err(Invalid::new("", "give either `action` or `form`, not both")),
             (None, None) => match input.text {
-                Some(text) if input.arguments.is_none() && input.bindings.is_none() => {
+                Some(text) if input.arguments.is_none() && input.bindings.is_none() && input.joiner.is_none() => {
                     Ok((Directive::Words { text }, None))
                 }
                 _ => Err(Invalid::new(
@@ -432,7 +440,24 @@ impl Directive {
                 let arguments = (input.arguments.unwrap_or_default().into_iter().enumerate())
                     .map(|(i, r)| Reference::from_input(r, scene).map_err(|e| e.within(&format!("/arguments/{i}"))))
                     .collect::<Result<_, _>>()?;
-                Ok((Directive::Action { verb, arguments }, None))
+                let joiner = (input.joiner)
+                    .map(|j| {
+                        let word = j.trim().to_lowercase();
+                        let is_word =
+                            !word.is_empty() && word.len() <= 32 && word.chars().all(|c| c.is_ascii_lowercase());
+                        is_word
+                            .then_some(word)
+                            .ok_or_else(|| Invalid::new("/joiner", "a joiner is one lower-case word, like `in`"))
+                    })
+                    .transpose()?;
+                Ok((
+                    Directive::Action {
+                        verb,
+                        arguments,
+                        joiner,
+                    },
+                    None,
+                ))
             }
             (None, Some(text)) => {
                 if input.arguments.is_some() {
@@ -440,6 +465,9 @@ impl Directive {
                         "/arguments",
                         "`arguments` go with `action`, not with `form`",
                     ));
+                }
+                if input.joiner.is_some() {
+                    return Err(Invalid::new("/joiner", "`joiner` goes with `action`, not with `form`"));
                 }
                 let form = Term::parse_within(&text, limits.terms)
                     .map_err(|e| Invalid::new("/form", format!("not a term: {e}")))?;

@@ -265,7 +265,7 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
 
 pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
     match directive {
-        Directive::Action { verb, arguments } => {
+        Directive::Action { verb, arguments, .. } => {
             let slots = arguments
                 .iter()
                 .map(|reference| {

@@ -358,6 +358,10 @@ pub struct Env<'a> {
     in_force: InForce,
     /// The speaker's roles: a conditional norm's words say which of its roles made it apply.
     roles: Vec<String>,
+    /// The relation the reading's own verb makes true, and the one the joiner said names
+    /// instead ("put X in Y": `on` becomes `in`). The reading's own step only: a step it calls
+    /// is not what the human said.
+    relation: Option<(Sym, Sym)>,
     /// Whether the request's deadline has passed or its client has gone: asked before every step
     /// is expanded, so that a verb whose plan explodes cannot hold a core past the deadline.
     pub expired: &'a (dyn Fn() -> bool + Sync),
@@ -371,12 +375,18 @@ impl<'a> Env<'a> {
         library: &'a Library,
         scope: Scope<'_>,
         base: &Base,
+        relation: Option<(Sym, Sym)>,
         expired: &'a (dyn Fn() -> bool + Sync),
     ) -> Env<'a> {
         // A fact holds in a reading's world only if the scene states it or a step made it true:
         // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
+        let said = relation.as_ref().map(|(_, to)| to.clone());
         let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(&DID.0, 2)];
         let mut any = false;
+        // The relation a joiner said makes true holds too ("put X in Y": `in`).
+        if let Some(to) = &said {
+            made.push((to, 2));
+        }
         for fact in library.adds() {
             match fact.name() {
                 Some(name) if !fact.is_var() => made.push((name, fact.arity())),
@@ -387,12 +397,14 @@ impl<'a> Env<'a> {
             let (name, arity) = key.key();
             any || base.may_have(key) || made.iter().any(|&(n, a)| n == name && a == *arity)
         };
+        let in_force = norms.in_force(scope, &can_hold);
         Env {
             scene,
             norms,
             library,
-            in_force: norms.in_force(scope, &can_hold),
+            in_force,
             roles: scope.roles.to_vec(),
+            relation,
             expired,
         }
     }
@@ -560,12 +572,16 @@ impl Run<'_, '_> {
         }
         let mut new_facts: smallvec::SmallVec<[Term; 4]> = smallvec::SmallVec::new();
         // The reading's own step (the same term, not only an equal one) is already done.
-        let done = if std::ptr::eq(action, self.reading) {
-            self.done.clone()
-        } else {
-            did(action)
+        let own = std::ptr::eq(action, self.reading);
+        let done = if own { self.done.clone() } else { did(action) };
+        let relation = self.env.relation.as_ref().filter(|_| own);
+        let said = |fact: Term| match relation {
+            Some((from, to)) if fact.name() == Some(from) && fact.arity() == 2 => {
+                Term::compound(to, fact.args().to_vec())
+            }
+            _ => fact,
         };
-        for fact in def.adds.iter().map(|f| f.substitute(bindings)).chain([done]) {
+        for fact in def.adds.iter().map(|f| said(f.substitute(bindings))).chain([done]) {
             if self.world.assert(fact.clone()) {
                 new_facts.push(fact);
             }
@@ -608,7 +624,9 @@ impl Run<'_, '_> {
                 self.push(Reason::infeasible(Cause::TooHeavy { object: id() }));
             }
         }
+        // Room is room on top: an item put in or under its support is not placed on it.
         if let Some((item, support)) = &def.place
+            && relation.is_none_or(|(_, to)| &**to == "on")
             && let (Some(item), Some(support)) = (object_of(item), object_of(support))
             && support.shape.is_some()
             && !room_on(support, item)

@@ -72,6 +72,11 @@ pub struct DirectiveBody {
     pub bindings: Option<BTreeMap<String, Vec<BindingBody>>>,
     #[serde(default)]
     pub text: Option<String>,
+    /// With `action`: the word said between its two arguments when not the verb's own ("in"
+    /// for `put`, whose own is "on"). It is spoken, and a joiner naming another relation makes
+    /// that relation the verb's effect (`put` by "in" makes `in(X,Y)` true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joiner: Option<String>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
@@ -266,6 +271,7 @@ impl From<DirectiveBody> for DirectiveInput {
             form: d.form,
             bindings,
             text: d.text,
+            joiner: d.joiner,
         }
     }
 }

@@ -126,6 +126,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             form: opt(&directive["form"]),
             bindings,
             text: opt(&directive["text"]),
+            joiner: opt(&directive["joiner"]),
         }),
         scene: Some(pb::Scene {
             agent: Some(pb::Agent {

@@ -72,3 +72,17 @@ pub(super) fn grammar_free(words: &[String], joiners: &[String]) -> Result<(), I
     }
     Ok(())
 }
+
+/// The relation a joiner says holds between a verb's two arguments once it is done: "put the
+/// fork in the microwave" leaves it `in`, "on the plate" `on`. `None` for a joiner that names
+/// no relation ("with", "to").
+pub fn relation_of(joiner: &str) -> Option<&'static str> {
+    match joiner {
+        "on" | "onto" | "upon" | "atop" => Some("on"),
+        "in" | "into" | "inside" | "within" => Some("in"),
+        "under" | "beneath" | "below" | "underneath" => Some("under"),
+        "near" | "beside" | "by" => Some("near"),
+        "behind" => Some("behind"),
+        _ => None,
+    }
+}

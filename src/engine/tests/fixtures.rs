@@ -248,6 +248,7 @@ pub(super) fn act(verb: &str, arguments: Vec<Reference>) -> Request {
     request(Directive::Action {
         verb: verb.into(),
         arguments,
+        joiner: None,
     })
 }
 

@@ -150,6 +150,7 @@ fn arb_norm() -> impl Strategy<Value = NormInput> {
         ("preferred_action", "get(X)"),
         ("preferred_state", "holding(self,X)"),
         ("discouraged_state", "on(X,Y)"),
+        ("discouraged_state", "holding(self,X)"),
     ]);
     let when = prop::sample::select(vec![
         None,
@@ -242,6 +243,8 @@ impl Case {
                     .take(arity(verb))
                     .map(|k| ty(KINDS[*k]))
                     .collect(),
+                // Now and then `put` by "in", which makes `in(X,Y)` true instead of `on(X,Y)`.
+                joiner: (*verb == "put" && kinds.0 == 1).then(|| "in".to_owned()),
             },
             Shaped::Ids { verb, ids } => Directive::Action {
                 verb: (*verb).into(),
@@ -250,6 +253,7 @@ impl Case {
                     .take(arity(verb))
                     .map(|i| id(&id_of(*i)))
                     .collect(),
+                joiner: None,
             },
             Shaped::Attributes {
                 verb,
@@ -266,6 +270,7 @@ impl Case {
                 Directive::Action {
                     verb: (*verb).into(),
                     arguments,
+                    joiner: None,
                 }
             }
             Shaped::Form { verb, candidates } => {
@@ -485,7 +490,7 @@ fn every_shape_reaches_every_decision_and_reason() {
     let strategy = arb_case();
     let (mut decisions, mut reasons): (BTreeMap<&str, usize>, BTreeMap<&str, usize>) = Default::default();
     let library = library();
-    for _ in 0..3000 {
+    for _ in 0..4000 {
         let case = strategy.new_tree(&mut runner).expect("a case").current();
         let Ok(d) = clarify(&case.request(), &case.scene(), &norms(&case.norms), &library, &|| false) else {
             continue;

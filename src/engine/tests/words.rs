@@ -18,7 +18,7 @@ type Read = (String, Vec<Vec<String>>);
 pub(super) fn read(text: &str, scene: &Scene) -> Result<Read, (Unclear, String)> {
     match understand(text, scene, &Library::default_library(), &[], &|| false) {
         Understanding::Directive {
-            directive: Directive::Action { verb, arguments },
+            directive: Directive::Action { verb, arguments, .. },
             ..
         } => {
             let candidates = arguments
@@ -191,6 +191,7 @@ fn the_paper_in_words_decides_as_the_structured_directive() {
             &request(Directive::Action {
                 verb,
                 arguments: vec![super::fixtures::ty(noun)],
+                joiner: None,
             }),
             scene,
             &norms,
@@ -460,7 +461,7 @@ fn a_verb_of_no_arguments_takes_no_reference() {
         ("Wave the mug.", false),
     ] {
         let understood = understand(text, &lab(), &library, &[], &|| false);
-        let is_wave = matches!(&understood, Understanding::Directive { directive: Directive::Action { verb, arguments }, .. } if verb == "wave" && arguments.is_empty());
+        let is_wave = matches!(&understood, Understanding::Directive { directive: Directive::Action { verb, arguments, .. }, .. } if verb == "wave" && arguments.is_empty());
         assert_eq!(is_wave, taken, "{text}: {understood:?}");
     }
 }

@@ -108,7 +108,8 @@ fn a_vocative_is_a_name_never_a_verb_or_the_words_of_a_reference() {
             directive,
             Directive::Action {
                 verb: "get".into(),
-                arguments: vec![Reference::Id("object5".into())]
+                arguments: vec![Reference::Id("object5".into())],
+                joiner: None,
             },
             "{text}"
         );
@@ -359,4 +360,70 @@ fn names_with_combining_marks_are_letters_and_an_ordinal_after_which_is_explaine
         crate::engine::clarify::EngineError::BadChoice { choice: 1, offered: 1 }.to_string(),
         "choice 1 is not among the 1 reading the question named"
     );
+}
+
+/// Issue 50, §2: "put X in Y" was spoken and simulated as "on": a norm on `in(X,Y)` never
+/// fired and "Put the fork in the microwave." was complied with. The joiner said is spoken and
+/// names the relation the verb makes true.
+#[test]
+fn put_in_is_spoken_and_simulated_as_in() {
+    use super::fixtures::{fs, norms, obj, scene};
+    let kitchen = scene(
+        vec![
+            obj("fork1", "fork", &["metal"], &[], [0.5, 0.0, 0.8], None),
+            obj("microwave1", "microwave", &[], &[], [0.5, 0.3, 0.8], None),
+        ],
+        &[],
+    );
+    let in_microwave = norms(&[fs("in(X,microwave1)")]);
+    for (text, kind, utterance) in [
+        (
+            "Put the fork in the microwave.",
+            DecisionKind::Refuse,
+            "I cannot put the fork in the microwave because it requires a forbidden state.",
+        ),
+        (
+            "Place the fork inside the microwave.",
+            DecisionKind::Refuse,
+            "I cannot put the fork inside the microwave because it requires a forbidden state.",
+        ),
+        ("Put the fork on the microwave.", DecisionKind::Comply, "Okay."),
+    ] {
+        let d = run(&said(text), &kitchen, &in_microwave);
+        assert_eq!((d.kind, d.utterance.as_str()), (kind, utterance), "{text}");
+    }
+    // The plan shows what was made true.
+    let d = run(&said("Put the fork into the microwave."), &kitchen, &norms(&[]));
+    assert_eq!(d.kind, DecisionKind::Comply);
+    let natural = super::fixtures::natural(said("Put the fork into the microwave."));
+    assert_eq!(
+        run(&natural, &kitchen, &norms(&[])).utterance,
+        "Okay, I will put the fork into the microwave."
+    );
+    // Structured, the same; a joiner the verb does not take is the client's error.
+    let structured = |joiner: &str| crate::engine::request::Request {
+        directive: Directive::Action {
+            verb: "put".into(),
+            arguments: vec![super::fixtures::id("fork1"), super::fixtures::id("microwave1")],
+            joiner: Some(joiner.into()),
+        },
+        ..said("")
+    };
+    assert_eq!(
+        run(&structured("in"), &kitchen, &in_microwave).kind,
+        DecisionKind::Refuse
+    );
+    assert_eq!(
+        run(&structured("on"), &kitchen, &in_microwave).kind,
+        DecisionKind::Comply
+    );
+    let err = crate::engine::clarify::clarify(
+        &structured("with"),
+        &kitchen,
+        &in_microwave,
+        &Library::default_library(),
+        &|| false,
+    )
+    .unwrap_err();
+    assert_eq!(err.to_string(), "`with` does not join the arguments of `put`");
 }

@@ -406,6 +406,8 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         );
         rest.truncate(at);
     }
+    // The joiner the human said between two arguments: spoken back, and its relation made true.
+    let mut said_joiner = None;
     let spans: Vec<&[String]> = if arity == 0 {
         // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
         if !rest.is_empty() || !narrowings.is_empty() {
@@ -416,7 +418,10 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         return unclear(Unclear::Unplaced, words.join(" "));
     } else if arity == 2 {
         match (1..rest.len()).find(|&i| joiners.contains(&rest[i])) {
-            Some(i) if i + 1 < rest.len() => vec![&rest[..i], &rest[i + 1..]],
+            Some(i) if i + 1 < rest.len() => {
+                said_joiner = Some(rest[i].clone());
+                vec![&rest[..i], &rest[i + 1..]]
+            }
             // Two arguments and no joiner between them: the words do not say which is which.
             _ => return unclear(Unclear::Unplaced, words.join(" ")),
         }
@@ -434,6 +439,7 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         directive: Directive::Action {
             verb: verb.clone(),
             arguments,
+            joiner: said_joiner,
         },
         parse: Parse {
             act,

@@ -103,6 +103,7 @@ impl From<pb::Directive> for DirectiveBody {
             form: d.form,
             bindings,
             text: d.text,
+            joiner: d.joiner,
         }
     }
 }
