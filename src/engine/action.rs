@@ -68,21 +68,6 @@ pub struct ActionDef {
 }
 
 impl ActionDef {
-    /// What saying the verb with `said` (one of its joiners) changes in its own effects: the
-    /// relation its default joiner makes true becomes the one `said` names ("put X in Y" makes
-    /// `in(X,Y)` where "on" makes `on(X,Y)`). `None` when they name the same relation, or either
-    /// names none.
-    pub fn relation_for(&self, said: &str) -> Option<(Sym, Sym)> {
-        let from = relation_of(self.joiner.as_deref()?)?;
-        let to = relation_of(said)?;
-        (from != to).then(|| (Sym::from(from), Sym::from(to)))
-    }
-
-    /// Whether `said` joins this verb's arguments: its spoken joiner or one of its joiners.
-    pub fn takes_joiner(&self, said: &str) -> bool {
-        self.joiner.as_deref() == Some(said) || self.joiners.iter().any(|j| j == said)
-    }
-
     /// Binds the parameters to an action's arguments; `None` when the arity differs.
     pub fn bind(&self, action: &Term) -> Option<Subst> {
         if action.arity() != self.params.len() {

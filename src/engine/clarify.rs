@@ -265,30 +265,7 @@ fn decide_directive(
         return Ok(decision);
     }
 
-    // A joiner the human said instead of the verb's own is spoken, and may change the relation
-    // the verb makes true ("put X in Y").
-    let relation = match directive {
-        Directive::Action {
-            verb,
-            arguments,
-            joiner: Some(said),
-        } => match library.get(verb, arguments.len()) {
-            Some(def) if !def.takes_joiner(said) => {
-                return Err(EngineError::BadJoiner {
-                    verb: verb.clone(),
-                    joiner: said.clone(),
-                });
-            }
-            Some(def) => {
-                if def.joiner.as_deref() != Some(said.as_str()) {
-                    describer.say_joiner(def.name.clone(), said.clone());
-                }
-                def.relation_for(said)
-            }
-            None => None,
-        },
-        _ => None,
-    };
+    let relation = joined(directive, library, &mut describer)?;
     let (template, mut slots) = slots(directive, scene);
     let missing: Vec<Unfound> = slots
         .iter()
@@ -704,5 +681,8 @@ fn render(
     }
 }
 
+mod said;
 #[cfg(test)]
 mod tests;
+
+use said::joined;

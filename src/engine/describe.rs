@@ -72,6 +72,7 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s
         .chain(object.attributes.iter().map(|(k, v)| Feature::Attribute(k, v)));
     let mut distractors: Option<Vec<&Object>> = None;
     let mut words = vec!["the".to_owned()];
+    let mut after = Vec::new();
     for feature in features {
         let remaining = distractors.get_or_insert_with(&list);
         if remaining.is_empty() {
@@ -80,11 +81,30 @@ fn describe_among<'s>(object: &Object, others: usize, list: impl Fn() -> Vec<&'s
         let before = remaining.len();
         remaining.retain(|d| feature.holds_for(d));
         if remaining.len() < before {
-            words.push(feature.word());
+            let word = feature.word();
+            match after_the_noun(&word) {
+                true => after.push(word),
+                false => words.push(word),
+            }
         }
     }
     words.push(spoken(&object.kind));
+    words.extend(after);
     (words.join(" "), distractors.map_or(others > 0, |d| !d.is_empty()))
+}
+
+/// Whether a feature's words follow the noun in English: a phrase that opens with a
+/// preposition or a participle ("on floor", "filled with water": "the book on floor", never
+/// "the on floor book"). A single word, or a phrase of adjectives ("dark red"), goes before it.
+pub(crate) fn after_the_noun(words: &str) -> bool {
+    const PREPOSITIONS: &[&str] = &[
+        "on", "in", "at", "under", "over", "near", "by", "with", "without", "from", "of", "for", "inside", "behind",
+        "beside", "above", "below", "beneath", "next", "left", "right", "outside", "into", "onto", "to",
+    ];
+    let Some((first, _)) = words.split_once(' ') else {
+        return false;
+    };
+    PREPOSITIONS.contains(&first) || first.len() > 4 && (first.ends_with("ed") || first.ends_with("ing"))
 }
 
 /// Up to this many objects, the objects of a type are found by scanning the scene: listing

@@ -3,7 +3,9 @@
 //!
 //! Owns: those checks. Must not: read a sentence (the grammar does).
 
+use super::ActionDef;
 use crate::engine::input::{Invalid, normalise_phrase};
+use crate::engine::term::Sym;
 
 /// Words that open or stand for a reference, never a joiner between two.
 const DETERMINERS_AND_PRONOUNS: &[&str] = &["the", "a", "an", "this", "that", "my", "your", "it", "me", "us"];
@@ -84,5 +86,22 @@ pub fn relation_of(joiner: &str) -> Option<&'static str> {
         "near" | "beside" | "by" => Some("near"),
         "behind" => Some("behind"),
         _ => None,
+    }
+}
+
+impl ActionDef {
+    /// What saying the verb with `said` (one of its joiners) changes in its own effects: the
+    /// relation its default joiner makes true becomes the one `said` names ("put X in Y" makes
+    /// `in(X,Y)` where "on" makes `on(X,Y)`). `None` when they name the same relation, or either
+    /// names none.
+    pub fn relation_for(&self, said: &str) -> Option<(Sym, Sym)> {
+        let from = relation_of(self.joiner.as_deref()?)?;
+        let to = relation_of(said)?;
+        (from != to).then(|| (Sym::from(from), Sym::from(to)))
+    }
+
+    /// Whether `said` joins this verb's arguments: its spoken joiner or one of its joiners.
+    pub fn takes_joiner(&self, said: &str) -> bool {
+        self.joiner.as_deref() == Some(said) || self.joiners.iter().any(|j| j == said)
     }
 }

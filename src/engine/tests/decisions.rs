@@ -172,3 +172,39 @@ fn an_id_is_spoken_only_where_the_answer_needs_it() {
         d.utterance
     );
 }
+
+/// Issue 50, §2: a property that is a phrase was spoken raw before the noun ("the on floor
+/// book"). A phrase that opens with a preposition or a participle follows it.
+#[test]
+fn a_phrase_of_a_property_reads_as_english() {
+    let shelf = scene(
+        vec![
+            obj("book1", "book", &["on_floor"], &[], [0.5, 0.0, 0.8], None),
+            obj("book2", "book", &["dark_red"], &[], [0.5, 0.1, 0.8], None),
+            obj("cup1", "cup", &["filled_with_water"], &[], [0.5, 0.2, 0.8], None),
+            obj("cup2", "cup", &[], &[], [0.5, 0.3, 0.8], None),
+        ],
+        &[],
+    );
+    let d = run(&act("get", vec![ty("book")]), &shelf, &norms(&[]));
+    assert_eq!(
+        d.utterance,
+        "Do you mean that you want me to get the book on floor or that you want me to get the dark red book?"
+    );
+    let d = run(&act("get", vec![ty("cup")]), &shelf, &norms(&[]));
+    assert!(d.utterance.contains("the cup filled with water"), "{}", d.utterance);
+    // Said back as the robot speaks it, it is understood.
+    let d = run(
+        &request(Directive::Words {
+            text: "Get the book on floor.".into(),
+        }),
+        &shelf,
+        &norms(&[]),
+    );
+    assert_eq!(
+        d.goal.as_ref().map(ToString::to_string).as_deref(),
+        Some("did(self,get(book1))"),
+        "{}",
+        d.utterance
+    );
+}

@@ -24,6 +24,7 @@ use super::{Parse, Phrase, Understanding};
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
+use crate::engine::describe::after_the_noun;
 use crate::engine::request::Directive;
 use crate::engine::resolve::{Reference, Sense};
 
@@ -617,6 +618,23 @@ pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
 /// `body` (a reference without its determiner) as adjectives and a head noun (or "one"), if
 /// every word is placed; "the one" alone names nothing.
 fn described(body: &[String], lexicon: &Lexicon) -> Option<(Noun, Vec<Vec<Sense>>)> {
+    if let Some(found) = described_before(body, lexicon) {
+        return Some(found);
+    }
+    // "the book on floor": a property that is a phrase, after the noun, as the robot speaks it.
+    let shortest = body.len().saturating_sub(MAX_UNPLACED_TAIL).max(1);
+    (shortest..body.len()).rev().find_map(|end| {
+        if !after_the_noun(&body[end..].join(" ")) {
+            return None;
+        }
+        let (noun, mut before) = described_before(&body[..end], lexicon)?;
+        before.extend(adjectives(&body[end..], lexicon)?);
+        Some((noun, before))
+    })
+}
+
+/// `body` as adjectives before a head noun (or "one").
+fn described_before(body: &[String], lexicon: &Lexicon) -> Option<(Noun, Vec<Vec<Sense>>)> {
     let (noun, head) = match body.last()?.as_str() {
         "one" => (Noun::default(), 1),
         _ => lexicon.head_noun(body)?,
