@@ -62,6 +62,7 @@ fn trailing_words_that_narrow_or_negate_are_never_an_addressee_or_left_out() {
     }
     // What narrows is read, not dropped: the words the human added to the reference hold too.
     for (text, goal) in [
+        ("Get the cup, the red one please.", "did(self,get(cup1))"),
         ("Get the cup, the red one.", "did(self,get(cup1))"),
         ("Get the cup, red one.", "did(self,get(cup1))"),
         ("Get the notebook now, the red one.", "did(self,get(notebook1))"),
@@ -95,6 +96,7 @@ fn a_vocative_is_a_name_never_a_verb_or_the_words_of_a_reference() {
     let lab = lab();
     let focus = ids(&["object5"]);
     for text in [
+        "Pepper! Grab it.",
         "Grab it, Pepper.",
         "Grab it, please.",
         "Pepper, grab it.",
@@ -131,6 +133,9 @@ fn a_purpose_or_a_further_step_is_never_left_out() {
         ("Get the mug to not reheat it.", Unclear::Unplaced),
         ("Grab the mug, then smash.", Unclear::Several),
         ("Grab the mug, and destroy the vase.", Unclear::Several),
+        ("Get the mug. Put it on the red notebook.", Unclear::Several),
+        ("Get the mug.Destroy the vase.", Unclear::Several),
+        ("Get the mug; destroy the vase", Unclear::Several),
     ] {
         let d = run(&said(text), &lab, &norms);
         assert_eq!(d.kind, DecisionKind::NotUnderstood, "{text}: {}", d.utterance);

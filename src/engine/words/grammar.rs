@@ -19,7 +19,7 @@
 //! not understood.
 
 use super::lexicon::{Lexicon, Noun, inflects};
-use super::tokens::{segments, tokens};
+use super::tokens::{segments, sentences, tokens};
 use super::{Parse, Phrase, Understanding};
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
@@ -261,8 +261,19 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
 
 fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
     let unclear = |why, words: String| Understanding::NotUnderstood { why, words };
-    let mut segments = segments(tokens(text));
+    let mut sentences = sentences(tokens(text));
     let mut addressee = None;
+    // "Pepper! Get the mug.": a first sentence that can only be a name is the addressee. Any
+    // other sentence before the last is another step, not read yet.
+    let words_of = |tokens: &[super::tokens::Token]| tokens.iter().map(|t| t.word.clone()).collect::<Vec<_>>();
+    if sentences.len() == 2 && is_name(&words_of(&sentences[0]), lexicon) {
+        addressee = Some(words_of(&sentences.remove(0)).join(" "));
+    }
+    if sentences.len() > 1 {
+        let all: Vec<String> = sentences.iter().flat_map(|s| words_of(s)).collect();
+        return unclear(Unclear::Several, all.join(" "));
+    }
+    let mut segments = segments(sentences.pop().unwrap_or_default());
     let mut ignored = Vec::new();
     // A vocative at the start: one or two words that can only be a name, set off by a comma.
     if segments.len() > 1 && is_name(&segments[0], lexicon) {
@@ -291,10 +302,11 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
                 words: last[1..].to_vec(),
             });
         } else if DETERMINERS.contains(&last[0].as_str()) || last.last().is_some_and(|w| w == "one") {
-            narrowings.push(Narrowing {
-                keep: true,
-                words: last.clone(),
-            });
+            // "..., the red one please": manner after a narrowing is left out as anywhere.
+            let (mut words, mut shown) = (last.clone(), Vec::new());
+            strip_trailing_manner(&mut words, &mut shown);
+            trailing_ignored.push(shown);
+            narrowings.push(Narrowing { keep: true, words });
         } else {
             break;
         }

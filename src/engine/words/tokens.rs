@@ -6,12 +6,17 @@
 
 use crate::engine::scene::invisible;
 
-/// One word of the text, lower case, and whether a comma followed it.
+/// One word of the text, lower case, whether a comma followed it, and whether a sentence ended
+/// after it (".", "!", "?", ";").
 #[derive(Clone, Debug)]
 pub(super) struct Token {
     pub(super) word: String,
     pub(super) comma: bool,
+    pub(super) end: bool,
 }
+
+/// Marks that end a sentence.
+const ENDS: &str = ".!?;。！？；";
 
 /// Words, lower case; commas remembered (a vocative or a narrowing is set off by one). The
 /// punctuation of a sentence is dropped where it stands at a word's edge, and invisible
@@ -53,8 +58,18 @@ pub(super) fn tokens(text: &str) -> Vec<Token> {
                         out.push(Token {
                             word: std::mem::take(&mut word),
                             comma: true,
+                            end: false,
                         });
                     }
+                }
+                // "the mug.Get the vase": a full stop between a word and a capital is the end of
+                // a sentence, not a mark inside a word ("1.5", "dr.pepper" stay whole).
+                '.' | '!' | '?' if chars[i - 1].is_lowercase() && chars[i + 1].is_uppercase() => {
+                    out.push(Token {
+                        word: std::mem::take(&mut word),
+                        comma: false,
+                        end: true,
+                    });
                 }
                 // Most words are ASCII: lowered without `to_lowercase`'s iterator.
                 c if c.is_ascii_alphanumeric() => word.push(c.to_ascii_lowercase()),
@@ -66,6 +81,7 @@ pub(super) fn tokens(text: &str) -> Vec<Token> {
             out.push(Token {
                 word,
                 comma: chars[last + 1..].contains(&','),
+                end: chars[last + 1..].iter().any(|&c| ENDS.contains(c)),
             });
         }
     }
@@ -78,6 +94,20 @@ const PUNCTUATION: &str = ".!?;:\"`()[]{}‘“”„«»‹›…¡¿–—。�
 
 fn is_punctuation(c: char) -> bool {
     PUNCTUATION.contains(c)
+}
+
+/// Splits tokens into sentences: each ends where a sentence's mark stands, the last at the end.
+pub(super) fn sentences(tokens: Vec<Token>) -> Vec<Vec<Token>> {
+    let mut out: Vec<Vec<Token>> = vec![Vec::new()];
+    for token in tokens {
+        let end = token.end;
+        out.last_mut().expect("never empty").push(token);
+        if end {
+            out.push(Vec::new());
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
 }
 
 /// Splits tokens into the comma-separated parts of the sentence.
