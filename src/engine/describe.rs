@@ -111,7 +111,85 @@ pub(crate) fn after_the_noun(words: &str) -> bool {
 /// them by type costs more than the scans a small scene's descriptions make.
 const SCAN_KINDS: usize = 64;
 
-type Kinds<'a> = FxHashMap<&'a str, Vec<&'a Object>>;
+type Kinds<'a> = FxHashMap<&'a str, Kind<'a>>;
+
+/// The objects of one type in a large scene, and which of them has each feature: a description
+/// then intersects short lists of holders rather than passing over every object of its type,
+/// so describing all of them is not quadratic in their number.
+#[derive(Default)]
+struct Kind<'a> {
+    /// In scene order.
+    objects: Vec<&'a Object>,
+    /// Each object's position in `objects`, by id.
+    at: FxHashMap<&'a str, u32>,
+    /// For each feature, the positions of the objects that have it, ascending.
+    holders: FxHashMap<(&'a str, Option<&'a str>), Vec<u32>>,
+}
+
+impl<'a> Kind<'a> {
+    fn add(&mut self, object: &'a Object) {
+        let n = self.objects.len() as u32;
+        self.objects.push(object);
+        self.at.insert(&object.id, n);
+        let mut hold = |key| {
+            let list: &mut Vec<u32> = self.holders.entry(key).or_default();
+            // A property listed twice is held once.
+            if list.last() != Some(&n) {
+                list.push(n);
+            }
+        };
+        for p in &object.properties {
+            hold((p.as_str(), None));
+        }
+        for (k, v) in &object.attributes {
+            hold((k.as_str(), Some(v.as_str())));
+        }
+    }
+
+    /// What [`describe_among`] says of `object` (one of this type's), by the lists of holders.
+    fn describe(&self, object: &Object) -> (String, bool) {
+        let me = self.at.get(&*object.id).copied();
+        let features = (object.properties.iter().map(|p| (p.as_str(), None)))
+            .chain(object.attributes.iter().map(|(k, v)| (k.as_str(), Some(v.as_str()))));
+        let mut remaining: Option<Vec<u32>> = None;
+        let mut words = vec!["the".to_owned()];
+        let mut after = Vec::new();
+        for key in features {
+            if remaining.as_ref().is_some_and(Vec::is_empty) {
+                break;
+            }
+            let holders = self.holders.get(&key).map_or(&[][..], Vec::as_slice);
+            let (before, kept): (usize, Vec<u32>) = match &remaining {
+                None => (
+                    self.objects.len() - 1,
+                    holders.iter().copied().filter(|&i| Some(i) != me).collect(),
+                ),
+                Some(left) => (
+                    left.len(),
+                    left.iter()
+                        .copied()
+                        .filter(|i| holders.binary_search(i).is_ok())
+                        .collect(),
+                ),
+            };
+            if kept.len() < before {
+                let word = match key {
+                    (p, None) => spoken(p),
+                    (_, Some(v)) => spoken(v),
+                };
+                match after_the_noun(&word) {
+                    true => after.push(word),
+                    false => words.push(word),
+                }
+            }
+            remaining = Some(kept);
+        }
+        words.push(spoken(&object.kind));
+        words.extend(after);
+        let others = self.objects.len() > 1;
+        (words.join(" "), remaining.map_or(others, |d| !d.is_empty()))
+    }
+}
 
 /// What an object's description depends on besides its id: its type and features.
 type Look<'a> = (&'a str, &'a [String], &'a BTreeMap<String, String>);
@@ -215,18 +293,20 @@ impl<'a> Describer<'a> {
         } else {
             let scene = self.scene;
             let kinds = self.kinds.get_or_init(|| {
-                let mut kinds: FxHashMap<&str, Vec<&Object>> = FxHashMap::default();
+                let mut kinds: Kinds<'_> = FxHashMap::default();
                 for o in &scene.objects {
-                    kinds.entry(o.kind.as_str()).or_default().push(o);
+                    kinds.entry(o.kind.as_str()).or_default().add(o);
                 }
                 kinds
             });
             let look = (object.kind.as_str(), &object.properties[..], &object.attributes);
-            let (text, distractors) = self.looks.entry(look).or_insert_with(|| {
-                let of_kind = kinds.get(object.kind.as_str()).map_or(&[][..], Vec::as_slice);
-                let others = || of_kind.iter().copied().filter(|o| o.id != object.id);
-                describe_among(object, of_kind.len().saturating_sub(1), || others().collect())
-            });
+            let (text, distractors) = self
+                .looks
+                .entry(look)
+                .or_insert_with(|| match kinds.get(object.kind.as_str()) {
+                    Some(kind) => kind.describe(object),
+                    None => describe_among(object, 0, Vec::new),
+                });
             with_id(text.clone(), *distractors, object)
         };
         self.push_spoken(name, &words, out);
