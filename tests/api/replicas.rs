@@ -1,7 +1,7 @@
 //! Two `scruple serve` processes on loopback, one PostgreSQL database: a norm changed through
 //! replica A is enforced by replica B on its very next request, also after B restarts, and the
 //! other way round; and two replicas started at the same moment on a fresh database both come
-//! up on one schema.
+//! up on one schema, on PostgreSQL and on a SQLite file.
 
 use std::process::Stdio;
 
@@ -215,4 +215,72 @@ async fn two_replicas_started_at_once_on_a_fresh_database_both_come_up_on_one_sc
             .unwrap_or_else(|e| panic!("attempt {attempt}: {e}"));
         replicas.into_iter().for_each(Replica::stop);
     }
+}
+
+/// Finding: two processes started together on a new SQLite file both applied the migrations
+/// (sqlx's SQLite migrator takes no lock), and one of them failed to start in most tries
+/// ("UNIQUE constraint failed: _sqlx_migrations.version", "duplicate column name: roles_json",
+/// "table norms already exists"). The migrations now run under SQLite's write lock, so the
+/// second waits for the first and finds them applied. Ten rounds on ten new files, each
+/// followed by two processes started together on the file just migrated (a restart of both):
+/// every start comes up on one schema, and the norm the first pair stored is still in force.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_processes_started_at_once_on_a_new_sqlite_file_both_come_up_on_one_schema() {
+    const ROUNDS: usize = 10;
+    let client = crate::helpers::http_client();
+    let mut failed = Vec::new();
+    for round in 0..ROUNDS {
+        let dir = tempfile::tempdir().unwrap();
+        let url = format!("sqlite://{}", dir.path().join("scruple.db").display());
+        match both_come_up_on_one_schema(&url, migrations_in("sqlite")).await {
+            Ok(replicas) => replicas.into_iter().for_each(Replica::stop),
+            Err(e) => {
+                failed.push(format!("round {round}, new file: {e}"));
+                continue;
+            }
+        }
+        match start_two_at_once(&url) {
+            Ok(replicas) => {
+                for replica in &replicas {
+                    assert_eq!(replica.decide(&client).await["decision"], "assume", "round {round}");
+                }
+                assert_eq!(migrations_recorded(&url).await, (migrations_in("sqlite"), 0));
+                replicas.into_iter().for_each(Replica::stop);
+            }
+            Err(e) => failed.push(format!("round {round}, migrated file: {e}")),
+        }
+    }
+    assert!(
+        failed.is_empty(),
+        "{} of {ROUNDS} rounds had a start fail:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+}
+
+/// A start that cannot have the database's write lock to migrate it (another process holds it:
+/// here the test's own connection) waits for it as a writer does, 5 s, and then fails naming the
+/// database: it never hangs, and never serves on a schema it could not check. Once the lock is
+/// let go, a start comes up on the same file.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_start_kept_from_the_write_lock_fails_after_a_bounded_wait_naming_the_database() {
+    use sqlx::Connection;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("held.db");
+    let url = format!("sqlite://{}", path.display());
+    Replica::start(&url).stop();
+    let mut holder = sqlx::SqliteConnection::connect(&url).await.unwrap();
+    sqlx::query("BEGIN IMMEDIATE").execute(&mut holder).await.unwrap();
+    let began = std::time::Instant::now();
+    let refused = try_serve_binary(&url).err().expect("no start while the lock is held");
+    let waited = began.elapsed();
+    assert!(
+        refused.contains(&format!("{}: another process kept the database locked", path.display())),
+        "{refused}"
+    );
+    let bounds = std::time::Duration::from_millis(4_500)..std::time::Duration::from_secs(15);
+    assert!(bounds.contains(&waited), "waited {waited:?}");
+    sqlx::query("ROLLBACK").execute(&mut holder).await.unwrap();
+    holder.close().await.unwrap();
+    Replica::start(&url).stop();
 }
