@@ -544,8 +544,63 @@ fn an_answers_file_that_cannot_be_made_fails_before_the_replay() {
     assert!(!out.exists());
 }
 
+/// The readings of `put` with 50 cups and 50 plates (2,500) are more than the engine describes
+/// on one thread (`DESCRIBE_APART_FROM` in `src/engine/clarify.rs`, 2,048).
+const MANY_READINGS: usize = 2_500;
+
+/// Requests with [`MANY_READINGS`] readings, as replay lines: simulated, described and their
+/// reasons worded on rayon's pool, in batches whose bounds move with the thread count. Some
+/// readings are refused (cup `object3` falls under the paper's norm on getting it), some are
+/// infeasible (cups out of reach), and the cups differ in colour and properties, so that the
+/// descriptions and reasons vary along the answer; in structures, in words, and in the paper's
+/// reflexive condition (which offers every reading, whatever its reasons).
+fn many_readings_lines() -> String {
+    let cups = (0..50).map(|i| {
+        let id = if i == 3 {
+            "object3".to_owned()
+        } else {
+            format!("cup{i}")
+        };
+        let far = if i % 7 == 0 { 3.0 } else { 0.5 };
+        let mut cup = json!({"id": id, "type": "cup", "position": [far, 0.01 * i as f64, 0.8]});
+        if i % 3 > 0 {
+            cup["attributes"] = json!({"color": if i % 3 == 1 { "red" } else { "green" }});
+        }
+        if i % 5 == 0 {
+            cup["properties"] = json!(["fragile"]);
+        }
+        cup
+    });
+    let plates =
+        (0..50).map(|i| json!({"id": format!("plate{i}"), "type": "plate", "position": [0.5, -0.01 * i as f64, 0.76]}));
+    let scene = json!({
+        "agent": {"id": "self", "position": [0.0, 0.0, 0.75], "reach": 0.9},
+        "objects": cups.chain(plates).collect::<Vec<_>>(),
+    });
+    let put = json!({"action": "put", "arguments": [{"type": "cup"}, {"type": "plate"}]});
+    [
+        ("many, structured", "moral", json!({"directive": put, "scene": scene})),
+        (
+            "many, words",
+            "moral",
+            json!({"directive": {"text": "Put the cup on the plate."}, "scene": scene}),
+        ),
+        (
+            "many, reflexive",
+            "reflexive",
+            json!({"directive": put, "scene": scene, "options": {"strategy": "reflexive"}}),
+        ),
+    ]
+    .into_iter()
+    .map(|(id, condition, request)| format!("{}\n", json!({"id": id, "condition": condition, "request": request})))
+    .collect()
+}
+
 /// The replay's threads change nothing in its answers: the same file replayed on every core and
-/// pinned to one (so one worker) gives the same bytes, a malformed line among them.
+/// pinned to one (so one worker, and one thread in rayon's pool) gives the same bytes, a
+/// malformed line among them, and requests large enough to be decided on rayon's pool among
+/// them too. The run on every core is given a pool of at least four threads, so that it is
+/// parallel even where the machine has one core.
 #[test]
 fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
     use std::os::unix::process::CommandExt;
@@ -553,6 +608,10 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
     let dir = TempDir::new().unwrap();
     let mut lines = demo_jsonl(&demo).repeat(40);
     lines.insert_str(lines.len() / 2, "{\"request\": 7}\n\n");
+    // Among the paper's lines, so that the replay's workers decide them beside the small ones.
+    let early = lines[..lines.len() / 4].rfind('\n').unwrap() + 1;
+    lines.insert_str(early, &many_readings_lines());
+    lines.push_str(&many_readings_lines());
     let jsonl = write(dir.path(), "cases.jsonl", &lines);
     let norms = paper_norms(dir.path(), &demo);
     let run = |name: &str, one_core: bool| {
@@ -560,8 +619,12 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
         let mut command = support::scruple();
         command
             .args(["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)])
+            .env_remove("RAYON_NUM_THREADS")
             .stdin(Stdio::null());
-        if one_core {
+        if !one_core {
+            let cores = std::thread::available_parallelism().map_or(1, usize::from);
+            command.env("RAYON_NUM_THREADS", cores.max(4).to_string());
+        } else {
             // SAFETY: only async-signal-safe calls between fork and exec.
             unsafe {
                 command.pre_exec(|| {
@@ -586,11 +649,33 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
     let (summary_all, answers_all) = run("all.jsonl", false);
     let (summary_one, answers_one) = run("one.jsonl", true);
     assert!(
-        summary_all.starts_with("401 requests: 400 decided, 1 error\n"),
+        summary_all.starts_with("407 requests: 406 decided, 1 error\n"),
         "{summary_all}"
     );
     assert_eq!(summary_one, summary_all);
-    assert_eq!(answers_one.len(), answers_all.len());
+    let (answers_one, answers_all) = (
+        String::from_utf8(answers_one).unwrap(),
+        String::from_utf8(answers_all).unwrap(),
+    );
+    let many: Vec<Value> = (answers_all.lines())
+        .map(|line| serde_json::from_str::<Value>(line).unwrap())
+        .filter(|answer| answer["id"].as_str().is_some_and(|id| id.starts_with("many, ")))
+        .collect();
+    assert_eq!(many.len(), 6);
+    for answer in &many {
+        let readings = answer["decision"]["interpretations"].as_array().unwrap();
+        assert_eq!(readings.len(), MANY_READINGS, "{}", answer["id"]);
+        // Reasons of both kinds are worded, on the pool, beside readings with none.
+        for (member, refused) in [("permissible", 50), ("feasible", 8 * 50)] {
+            let failing = readings.iter().filter(|r| r[member] == false).count();
+            assert_eq!(failing, refused, "{}: not {member}", answer["id"]);
+        }
+    }
+    let differs = (answers_one.lines().zip(answers_all.lines()).enumerate()).find(|(_, (one, all))| one != all);
+    if let Some((n, (one, _))) = differs {
+        let id = serde_json::from_str::<Value>(one).map_or(Value::Null, |answer| answer["id"].clone());
+        panic!("answer {} ({id}) differs between one core and all", n + 1);
+    }
     assert!(
         answers_one == answers_all,
         "the answers differ between one core and all"

@@ -1,12 +1,14 @@
 //! The SQLite backend (the default): WAL mode, `synchronous=FULL`, migrations embedded and
-//! applied at open; one writer at a time through `BEGIN IMMEDIATE`.
+//! applied at open under the database's write lock (so processes starting together on one file
+//! migrate it once); one writer at a time through `BEGIN IMMEDIATE`.
 //!
 //! Must not: write outside a transaction, or keep serving from a database file that has been
 //! deleted or replaced under it.
 
+use std::path::Path;
 use std::str::FromStr;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use async_trait::async_trait;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous};
@@ -29,6 +31,10 @@ pub struct SqliteBackend {
     file: Option<Arc<FileIdentity>>,
 }
 
+/// How long a connection waits for another's write lock before it gives up: a write then
+/// answers 503, and a start fails naming the database.
+const LOCK_WAIT: Duration = Duration::from_secs(5);
+
 impl SqliteStore {
     /// Opens (creating if missing) the database at `url` (`sqlite://scruple.db`, `sqlite::memory:`)
     /// and applies the embedded migrations.
@@ -38,18 +44,11 @@ impl SqliteStore {
             .create_if_missing(true)
             .journal_mode(SqliteJournalMode::Wal)
             .synchronous(SqliteSynchronous::Full)
-            .busy_timeout(Duration::from_secs(5))
+            .busy_timeout(LOCK_WAIT)
             .foreign_keys(true);
-        let pool = SqlitePoolOptions::new()
-            .max_connections(8)
-            .acquire_timeout(Duration::from_secs(5))
-            .connect_with(options.clone())
-            .await?;
-        sqlx::migrate!("./migrations/sqlite")
-            .run(&pool)
-            .await
-            .map_err(|e| StoreError::new(format!("migrations: {e}")))?;
         let path = options.get_filename();
+        let pool = connect(&options).await?;
+        migrate(&pool, path).await?;
         let in_memory = url.contains(":memory:") || url.contains("mode=memory");
         let file = if in_memory {
             None
@@ -64,6 +63,69 @@ impl SqliteStore {
 
     pub fn pool(&self) -> &SqlitePool {
         &self.backend.pool
+    }
+}
+
+/// The pool, its first connection made once no other process is turning a new file to WAL.
+/// That change takes a lock SQLite's busy timeout does not wait for: a process that opens the
+/// file at that moment is refused at once, so it tries again until [`LOCK_WAIT`] has passed.
+async fn connect(options: &SqliteConnectOptions) -> Result<SqlitePool, StoreError> {
+    let deadline = Instant::now() + LOCK_WAIT;
+    loop {
+        let connected = SqlitePoolOptions::new()
+            .max_connections(8)
+            .acquire_timeout(Duration::from_secs(5))
+            .connect_with(options.clone())
+            .await;
+        match connected {
+            Ok(pool) => return Ok(pool),
+            Err(e) if is_busy(&e) && Instant::now() < deadline => {
+                tokio::time::sleep(Duration::from_millis(10)).await;
+            }
+            Err(e) if is_busy(&e) => return Err(locked_out(options.get_filename(), "open it", e)),
+            Err(e) => return Err(e.into()),
+        }
+    }
+}
+
+/// Applies the embedded migrations holding the database's write lock (`BEGIN IMMEDIATE`), from
+/// before the applied ones are read until the last is committed. sqlx's SQLite migrator takes
+/// no lock of its own: two processes starting together on a new file both found nothing applied,
+/// both applied it, and one failed its start. Under the lock the later one waits for the first
+/// (at most [`LOCK_WAIT`], then fails naming the file) and finds every migration applied. Each
+/// migration is a savepoint of the one transaction, so a start that fails leaves none of its
+/// migrations behind.
+async fn migrate(pool: &SqlitePool, path: &Path) -> Result<(), StoreError> {
+    let mut locked =
+        (pool.begin_with("BEGIN IMMEDIATE").await).map_err(|e| locked_out(path, "apply the migrations", e))?;
+    // `run_direct` is `run` on a connection already in hand: `run`'s `Acquire` bound on a
+    // borrowed transaction keeps the compiler from proving `Send` the future of every task
+    // that opens a store (sqlx keeps `run_direct` public for that).
+    sqlx::migrate!("./migrations/sqlite")
+        .run_direct(None, &mut *locked, false)
+        .await
+        .map_err(|e| StoreError::new(format!("{}: migrations: {e}", path.display())))?;
+    Ok(locked.commit().await?)
+}
+
+/// SQLite's `SQLITE_BUSY` and its extended codes: another connection holds the lock wanted.
+fn is_busy(e: &sqlx::Error) -> bool {
+    const SQLITE_BUSY: i32 = 5;
+    let code = |e: &dyn sqlx::error::DatabaseError| e.code().and_then(|code| code.parse::<i32>().ok());
+    matches!(e, sqlx::Error::Database(e) if code(&**e).is_some_and(|code| code & 0xff == SQLITE_BUSY))
+}
+
+/// A start refused because another process held the database's lock for too long: named by its
+/// file, so that the operator knows which database to look at.
+fn locked_out(path: &Path, to: &str, e: sqlx::Error) -> StoreError {
+    if is_busy(&e) {
+        StoreError::new(format!(
+            "{}: another process kept the database locked for more than {} s; could not {to}: {e}",
+            path.display(),
+            LOCK_WAIT.as_secs()
+        ))
+    } else {
+        StoreError::new(format!("{}: could not {to}: {e}", path.display()))
     }
 }
 

@@ -233,6 +233,43 @@ pub fn serve_binary(database_url: &str, args: &[&str], envs: &[(&str, &str)], st
     Served { child, addr }
 }
 
+/// As [`serve_binary`] with no other flag, for a start that may fail: `Err` holds what the
+/// process wrote to stderr before it exited without printing its address. Its stderr is read
+/// to the end on a thread of its own, so a server that keeps running never blocks on it.
+pub fn try_serve_binary(database_url: &str) -> Result<Served, String> {
+    use std::io::{BufRead, BufReader, Read};
+    let mut child = crate::support::scruple()
+        .args(["serve", "--listen", "127.0.0.1:0", "--database-url", database_url])
+        .env("RUST_LOG", "error")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    let mut stderr = child.stderr.take().unwrap();
+    let said = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = stderr.read_to_string(&mut text);
+        text
+    });
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    match line.trim().strip_prefix("listening on ") {
+        Some(addr) => Ok(Served {
+            addr: addr.to_owned(),
+            child,
+        }),
+        None => {
+            // Without its address it serves nobody: ended, if it has not ended already.
+            let _ = child.kill();
+            let status = child.wait().unwrap();
+            Err(format!("{status}: {}", said.join().unwrap().trim()))
+        }
+    }
+}
+
 /// A server a failed assertion left running is killed, so no test leaves a process behind.
 impl Drop for Served {
     fn drop(&mut self) {
