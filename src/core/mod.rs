@@ -27,6 +27,7 @@ use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec
 use crate::engine::request::{Answer, Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
+use crate::engine::task::MAX_STEPS;
 use crate::engine::words::Understanding;
 use crate::error::Error;
 use crate::metrics::Metrics;
@@ -68,7 +69,11 @@ fn expansion_of(directive: &Directive, library: &Library) -> u64 {
     match directive {
         Directive::Action { verb, arguments, .. } => library.expansion(verb, arguments.len()),
         Directive::Form { action, .. } => library.expansion(action.name().map_or("", |n| &**n), action.arity()),
-        Directive::Words { .. } => library.most_expansion(),
+        // Words not yet read may hold several steps.
+        Directive::Words { .. } => library.most_expansion().saturating_mul(MAX_STEPS as u64),
+        Directive::Task(task) => (task.steps.iter())
+            .map(|s| library.expansion(&s.verb, s.arguments.len()))
+            .fold(0u64, u64::saturating_add),
     }
 }
 
@@ -83,8 +88,13 @@ fn at_most_readings(directive: &Directive, scene: &Scene) -> u128 {
         Directive::Form { bindings, .. } => bindings
             .iter()
             .fold(1u128, |n, (_, c)| n.saturating_mul(c.len() as u128)),
-        // Words name at most two references.
+        // Words of one step name at most two references; those of several steps are simulated
+        // up to `max_readings` readings whatever their references (their steps counted in
+        // `expansion_of`).
         Directive::Words { .. } => objects.saturating_mul(objects),
+        Directive::Task(task) => task.references().fold(1u128, |n, a| {
+            n.saturating_mul(if matches!(a, Reference::Id(_)) { 1 } else { objects })
+        }),
     }
 }
 
@@ -133,6 +143,10 @@ fn steps_read(request: &Request, read: &Understanding, scene: &Scene, library: &
     };
     let readings = match directive {
         Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, reference| {
+            let matches = scene.objects.iter().filter(|o| reference.matches(o)).count();
+            n.saturating_mul(matches as u128)
+        }),
+        Directive::Task(task) => task.references().fold(1u128, |n, reference| {
             let matches = scene.objects.iter().filter(|o| reference.matches(o)).count();
             n.saturating_mul(matches as u128)
         }),

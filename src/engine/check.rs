@@ -123,7 +123,7 @@ pub fn check(
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Check {
     let base = Base::new(scene.all_facts());
-    let env = Env::new(scene, norms, library, scope, &base, None, expired);
+    let env = Env::new(scene, norms, library, scope, &base, &[], expired);
     let mut describer = Describer::new(scene, library);
     let mut world = World::new(&base);
     let mut checked = Vec::with_capacity(steps.len());
@@ -132,7 +132,7 @@ pub fn check(
         if !checked.is_empty() && expired() {
             break;
         }
-        let (outcome, after) = simulate_from(&env, world, step);
+        let (outcome, after) = simulate_from(&env, world, step, None);
         world = after;
         let reason_words = outcome
             .reasons

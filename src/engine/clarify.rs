@@ -207,13 +207,16 @@ pub fn clarify_read(
     }
 }
 
-/// Whether every argument with more than one candidate is indefinite ("a mug"), and one is.
+/// Whether every argument with more than one candidate is indefinite ("a mug", "the mug or
+/// the cup"), and one is.
 fn any_will_do(directive: &Directive, slots: &[super::resolve::Slot]) -> bool {
-    let Directive::Action { arguments, .. } = directive else {
-        return false;
+    let references: Vec<&Reference> = match directive {
+        Directive::Action { arguments, .. } => arguments.iter().collect(),
+        Directive::Task(task) => task.references().collect(),
+        Directive::Form { .. } | Directive::Words { .. } => return false,
     };
-    let mut open = arguments
-        .iter()
+    let mut open = references
+        .into_iter()
         .zip(slots)
         .filter(|(_, slot)| slot.candidates.len() > 1)
         .peekable();
@@ -266,9 +269,22 @@ fn decide_directive(
     }
 
     let relation = joined(directive, library, &mut describer)?;
-    let (template, mut slots) = slots(directive, scene);
-    let missing: Vec<Unfound> = slots
-        .iter()
+    // A task's purposes name objects too, which no reading binds: one that matches nothing is
+    // said as any reference that does.
+    let (template, mut slots, purpose_slots) = match directive {
+        Directive::Task(task) => {
+            let (mut shape, slots, purpose_slots) = task.shape(scene);
+            shape
+                .join(library)
+                .map_err(|(verb, joiner)| EngineError::BadJoiner { verb, joiner })?;
+            (Template::Task(Box::new(shape)), slots, purpose_slots)
+        }
+        _ => {
+            let (template, slots) = slots(directive, scene);
+            (template, slots, Vec::new())
+        }
+    };
+    let missing: Vec<Unfound> = (slots.iter().chain(&purpose_slots))
         .filter(|s| s.candidates.is_empty())
         .map(|s| Unfound {
             words: s.words.clone(),
@@ -381,10 +397,17 @@ fn decide_directive(
     };
     let total = readings.len();
     let simulated = {
-        let env = Env::new(scene, norms, library, scope, &base, relation, expired);
+        let said = match &template {
+            Template::Task(shape) => shape.said_relations(),
+            _ => relation.iter().cloned().collect(),
+        };
+        let env = Env::new(scene, norms, library, scope, &base, &said, expired);
         let world = World::new(&base);
         let simulate_one = |reading: &mut Interpretation| {
-            (reading.outcome, reading.action) = simulate(&env, &world, &reading.action);
+            (reading.outcome, reading.action) = match &template {
+                Template::Task(shape) => shape.simulate(&env, &world, &reading.action, &reading.values),
+                _ => simulate(&env, &world, &reading.action, relation.as_ref()),
+            };
         };
         // Readings are simulated in the contract's order, with the deadline asked before each
         // (the first always runs); many go to rayon's pool a chunk at a time. Each is
@@ -529,58 +552,6 @@ fn contract_key<W: Ord>(score: f64, words: W) -> (Reverse<Score>, W) {
     (Reverse(Score(score)), words)
 }
 
-/// Simulates `readings` with `one` on rayon's pool, a chunk at a time, and says how many, from
-/// the first, were. The chunks are handed out in the contract's order, one to each thread that
-/// asks, so that a deadline cuts the least likely; each asks the deadline before it starts (the
-/// first always runs), and one that started finishes. A chunk that ran after one skipped (the
-/// deadline passed between two threads' looks) is not counted: what is kept is a prefix.
-fn simulate_apart(
-    readings: &mut [Interpretation],
-    one: &(dyn Fn(&mut Interpretation) + Sync),
-    expired: &(dyn Fn() -> bool + Sync),
-) -> usize {
-    let chunk = (readings.len())
-        .div_ceil(8 * rayon::current_num_threads())
-        .clamp(1, SIMULATE_CHUNK);
-    let mut ran = vec![false; readings.len().div_ceil(chunk)];
-    (readings.chunks_mut(chunk).zip(&mut ran).enumerate())
-        .par_bridge()
-        .for_each(|(n, (chunk, ran))| {
-            if n == 0 || !expired() {
-                chunk.iter_mut().for_each(one);
-                *ran = true;
-            }
-        });
-    let lead = ran.iter().take_while(|&&ran| ran).count();
-    (lead * chunk).min(readings.len())
-}
-
-/// How many of `n` readings one thread describes at a time: a few batches per thread, so that
-/// the threads share the work evenly, and at most [`PREPARE_BATCH`] between two looks at the
-/// deadline.
-fn parallel_batch(n: usize) -> usize {
-    n.div_ceil(4 * rayon::current_num_threads())
-        .clamp(DESCRIBE_APART_FROM / 8, PREPARE_BATCH)
-}
-
-/// Rearranges `items` in place so that position `k` holds what was at `order[k]` (`order` is a
-/// permutation of the positions): each cycle of the permutation is followed once, so every item
-/// moves without a second vector of them being made.
-fn permute<T>(items: &mut [T], mut order: Vec<usize>) {
-    const DONE: usize = usize::MAX;
-    for start in 0..items.len() {
-        let mut k = start;
-        while order[k] != DONE {
-            let from = std::mem::replace(&mut order[k], DONE);
-            if from == start {
-                break;
-            }
-            items.swap(k, from);
-            k = from;
-        }
-    }
-}
-
 /// Each reading's action and words, in the order chosen; `None` when the deadline passed first
 /// (asked between batches, never before the first). Many readings are described batch by batch
 /// on rayon's pool, each batch with its own describer: a description depends only on the scene,
@@ -594,7 +565,10 @@ fn prepare(
     let describe = |describer: &mut Describer<'_>, (values, score): (Vec<Term>, f64)| {
         let action = template.action(&values);
         Interpretation {
-            description: describer.arguments(&action),
+            description: match template {
+                Template::Task(shape) => shape.words(&action, describer),
+                _ => describer.arguments(&action),
+            },
             action,
             score,
             outcome: Outcome::default(),
@@ -681,8 +655,10 @@ fn render(
     }
 }
 
+mod pool;
 mod said;
 #[cfg(test)]
 mod tests;
 
+use pool::{parallel_batch, permute, simulate_apart};
 use said::joined;

@@ -234,7 +234,7 @@ pub enum Unclear {
     Question,
     /// What not to do: "Don't destroy the plate."
     Negated,
-    /// More than one thing at once: "Get the mug and destroy the plate."
+    /// More steps at once than a directive may hold (`task::MAX_STEPS`).
     Several,
     /// No verb, or words that are not a directive's shape.
     Unplaced,
@@ -279,6 +279,54 @@ pub struct Understood {
     pub ignored: Vec<String>,
     /// Why the words are not a directive, when they are not.
     pub unclear: Option<Unclear>,
+    /// Each step of a task of several steps (or of one with a purpose), in order; empty for a
+    /// directive of one step.
+    pub steps: Vec<StepUnderstood>,
+    /// What the human said the task is for ("to smash the vase").
+    pub purposes: Vec<PurposeUnderstood>,
+}
+
+/// One step of a task as the words were read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepUnderstood {
+    pub act: Act,
+    /// The step's action, one variable per object as in the whole form: `put(X,Y)`.
+    pub form: Term,
+    /// Each argument's words and the objects it may be.
+    pub references: Vec<ReferenceParse>,
+    /// How each pronoun of the step was bound.
+    pub pronouns: Vec<PronounBound>,
+}
+
+/// A pronoun ("it") and what it was taken to mean.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PronounBound {
+    pub words: String,
+    /// The argument of its step it stands in (from 0).
+    pub argument: usize,
+    pub to: BoundTo,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum BoundTo {
+    /// The object of argument `argument` of the earlier step `step`.
+    Step { step: usize, argument: usize },
+    /// The first object of the request's `focus` (none in the words came before it).
+    Focus(String),
+    /// Nothing: no antecedent in the words and no focus.
+    Nothing,
+}
+
+/// A purpose as the words were read: checked against the forbidden norms when its verb is
+/// known and it names an object (`form`), else only shown.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PurposeUnderstood {
+    pub words: String,
+    /// The act it names, `destroy(Z)`, with the whole form's variables; `None` when its verb
+    /// is unknown or it names no object.
+    pub form: Option<Term>,
+    /// The step it is said with (from 0).
+    pub after: usize,
 }
 
 impl Understood {
@@ -291,6 +339,8 @@ impl Understood {
             references: Vec::new(),
             ignored: Vec::new(),
             unclear: Some(why),
+            steps: Vec::new(),
+            purposes: Vec::new(),
         }
     }
 }

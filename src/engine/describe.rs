@@ -357,10 +357,51 @@ impl<'a> Describer<'a> {
         }
     }
 
+    /// The word said between `action`'s arguments: its verb's joiner, else "and".
+    pub fn joiner_of(&self, action: &Term) -> String {
+        (self.library.lookup(action))
+            .and_then(|def| def.joiner.clone())
+            .unwrap_or_else(|| "and".to_owned())
+    }
+
+    /// One step of a task in words: its verb spoken, its arguments joined by `joiner` (the
+    /// verb's own when `None`), an object already in `named` spoken "it".
+    pub fn step_in_task(&mut self, step: &Term, joiner: Option<&str>, named: &[Term]) -> String {
+        let arguments = self.arguments_in_task(step, joiner, named);
+        reading_with(step, &arguments)
+    }
+
+    /// The arguments of [`Describer::step_in_task`], without the verb.
+    pub fn arguments_in_task(&mut self, step: &Term, joiner: Option<&str>, named: &[Term]) -> String {
+        let library = self.library;
+        let joiner = joiner
+            .or_else(|| library.lookup(step).and_then(|def| def.joiner.as_deref()))
+            .unwrap_or("and");
+        let mut arguments = String::new();
+        for (i, arg) in step.args().iter().enumerate() {
+            if i > 0 {
+                arguments.push(' ');
+                arguments.push_str(joiner);
+                arguments.push(' ');
+            }
+            if named.contains(arg) || step.args()[..i].contains(arg) {
+                arguments.push_str("it");
+            } else {
+                self.argument_into(arg, &mut arguments);
+            }
+        }
+        arguments
+    }
+
     /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
     pub fn reading(&mut self, action: &Term) -> String {
         reading_with(action, &self.arguments(action))
     }
+}
+
+/// Whether `action` is a task of several steps, `and(A1,A2,…)`, rather than one verb's action.
+pub fn is_task(action: &Term) -> bool {
+    action.name().is_some_and(|n| &**n == "and") && action.arity() >= 2 && action.args().iter().all(|a| a.name().is_some())
 }
 
 /// The reading of an action whose arguments are already in words (its
@@ -370,6 +411,10 @@ pub fn reading_with(action: &Term, arguments: &str) -> String {
     let Some(name) = action.name() else {
         return action.to_string();
     };
+    // A task's words are its steps' readings already ([`Describer::step_in_task`]).
+    if is_task(action) {
+        return arguments.to_owned();
+    }
     let mut reading = String::with_capacity(name.len() + 1 + arguments.len());
     spoken_onto(name, &mut reading);
     if !arguments.is_empty() {

@@ -17,6 +17,7 @@ pub mod scene;
 pub mod simulate;
 pub mod speech;
 pub mod sym;
+pub mod task;
 pub mod term;
 pub mod words;
 pub mod world;

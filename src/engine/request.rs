@@ -16,6 +16,7 @@ use super::input::{Invalid, RequestLimits, Spelled, constant, pointer_segment, r
 use super::norms::{context_name, validate_roles};
 use super::resolve::{Candidate, Reference, ReferenceInput};
 use super::scene::{Scene, SceneInput};
+use super::task::{Argument, MAX_STEPS, Step, Task};
 use super::term::{Sym, Term};
 
 /// Defaults of the options that bound a request's work and words.
@@ -111,6 +112,9 @@ pub enum Directive {
     /// The human's words, to be read against the scene and the verbs (`words`) before anything
     /// is resolved; then decided as the directive they are read as.
     Words { text: String },
+    /// Several steps ("Get the mug and put it in the sink."), or one with a purpose: each
+    /// reading binds every reference once and is simulated as one plan.
+    Task(Task),
 }
 
 /// The human's answer to a question the robot asked, sent with the original request.
@@ -191,6 +195,25 @@ pub struct DirectiveInput {
     pub text: Option<String>,
     /// With `action`: the word said between its two arguments, when not the verb's own.
     pub joiner: Option<String>,
+    /// Several steps, in order, instead of `action` or `form`.
+    pub steps: Option<Vec<StepInput>>,
+}
+
+/// One step of a structured task, before it is checked.
+#[derive(Clone, Debug, Default)]
+pub struct StepInput {
+    pub action: Option<String>,
+    pub arguments: Option<Vec<StepArgumentInput>>,
+    pub joiner: Option<String>,
+}
+
+/// One argument of a step: a reference, or `step` and `argument` naming an earlier step's
+/// argument (its object), with no reference member beside them.
+#[derive(Clone, Debug, Default)]
+pub struct StepArgumentInput {
+    pub reference: ReferenceInput,
+    pub step: Option<u64>,
+    pub argument: Option<u64>,
 }
 
 /// A follow-up answer as a request gives it: exactly one of the three.
@@ -418,6 +441,24 @@ impl Directive {
         if let Some(text) = &input.text {
             limits.text(text)?;
         }
+        if let Some(steps) = input.steps {
+            if input.action.is_some() || input.form.is_some() {
+                return Err(Invalid::new("", "give one of `steps`, `action` or `form`"));
+            }
+            for (member, given) in [
+                ("arguments", input.arguments.is_some()),
+                ("bindings", input.bindings.is_some()),
+                ("joiner", input.joiner.is_some()),
+            ] {
+                if given {
+                    return Err(Invalid::new(
+                        format!("/{member}"),
+                        format!("`{member}` go in each step, not beside `steps`"),
+                    ));
+                }
+            }
+            return Ok((Directive::Task(task_of(steps, scene)?), None));
+        }
         match (input.action, input.form) {
             (Some(_), Some(_)) => Err(Invalid::new("", "give either `action` or `form`, not both")),
             (None, None) => match input.text {
@@ -440,16 +481,7 @@ impl Directive {
                 let arguments = (input.arguments.unwrap_or_default().into_iter().enumerate())
                     .map(|(i, r)| Reference::from_input(r, scene).map_err(|e| e.within(&format!("/arguments/{i}"))))
                     .collect::<Result<_, _>>()?;
-                let joiner = (input.joiner)
-                    .map(|j| {
-                        let word = j.trim().to_lowercase();
-                        let is_word =
-                            !word.is_empty() && word.len() <= 32 && word.chars().all(|c| c.is_ascii_lowercase());
-                        is_word
-                            .then_some(word)
-                            .ok_or_else(|| Invalid::new("/joiner", "a joiner is one lower-case word, like `in`"))
-                    })
-                    .transpose()?;
+                let joiner = input.joiner.map(joiner_word).transpose()?;
                 Ok((
                     Directive::Action {
                         verb,
@@ -480,6 +512,74 @@ impl Directive {
             }
         }
     }
+}
+
+/// A joiner as a client gives it: one lower-case word.
+fn joiner_word(joiner: String) -> Result<String, Invalid> {
+    let word = joiner.trim().to_lowercase();
+    let is_word = !word.is_empty() && word.len() <= 32 && word.chars().all(|c| c.is_ascii_lowercase());
+    is_word
+        .then_some(word)
+        .ok_or_else(|| Invalid::new("/joiner", "a joiner is one lower-case word, like `in`"))
+}
+
+/// A structured task: 1 to [`MAX_STEPS`] steps, each a verb and its arguments, an argument
+/// either a reference or `{"step": i, "argument": j}`, the object of argument j of an earlier
+/// step i. Fields named relative to the directive.
+fn task_of(steps: Vec<StepInput>, scene: &Scene) -> Result<Task, Invalid> {
+    if steps.is_empty() || steps.len() > MAX_STEPS {
+        return Err(Invalid::new("/steps", format!("give 1 to {MAX_STEPS} steps")));
+    }
+    let mut out: Vec<Step> = Vec::with_capacity(steps.len());
+    for (i, step) in steps.into_iter().enumerate() {
+        let at = format!("/steps/{i}");
+        let Some(verb) = step.action else {
+            return Err(Invalid::new(format!("{at}/action"), "each step needs `action`"));
+        };
+        verb_name(&verb).map_err(|m| Invalid::new(format!("{at}/action"), m))?;
+        let mut arguments = Vec::new();
+        for (j, argument) in step.arguments.unwrap_or_default().into_iter().enumerate() {
+            let field = format!("{at}/arguments/{j}");
+            arguments.push(match (argument.step, argument.argument) {
+                (None, None) => {
+                    Argument::Reference(Reference::from_input(argument.reference, scene).map_err(|e| e.within(&field))?)
+                }
+                (Some(earlier), Some(k)) => {
+                    let r = &argument.reference;
+                    if r.id.is_some() || r.kind.is_some() || r.attributes.is_some() || r.properties.is_some() {
+                        return Err(Invalid::new(
+                            field,
+                            "an argument is either a reference or `step` with `argument`, not both",
+                        ));
+                    }
+                    let Some(target) = usize::try_from(earlier).ok().filter(|&e| e < i) else {
+                        let which = match i {
+                            0 => "the first step has none before it".to_owned(),
+                            1 => "must be 0, the step before".to_owned(),
+                            _ => format!("must name an earlier step, 0 to {}", i - 1),
+                        };
+                        return Err(Invalid::new(format!("{field}/step"), which));
+                    };
+                    let count = out[target].arguments.len();
+                    let Some(k) = usize::try_from(k).ok().filter(|&k| k < count) else {
+                        return Err(Invalid::new(
+                            format!("{field}/argument"),
+                            format!("step {target} has {count} argument{}", if count == 1 { "" } else { "s" }),
+                        ));
+                    };
+                    Argument::Earlier { step: target, argument: k }
+                }
+                (Some(_), None) => return Err(Invalid::new(format!("{field}/argument"), "`step` needs `argument`")),
+                (None, Some(_)) => return Err(Invalid::new(format!("{field}/step"), "`argument` needs `step`")),
+            });
+        }
+        let joiner = step.joiner.map(joiner_word).transpose().map_err(|e| e.within(&at))?;
+        out.push(Step { verb, arguments, joiner });
+    }
+    Ok(Task {
+        steps: out,
+        purposes: Vec::new(),
+    })
 }
 
 /// Each variable of `action`, in first-appearance order, with its candidates: every variable

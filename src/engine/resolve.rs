@@ -9,6 +9,7 @@ use std::collections::BTreeMap;
 use super::input::{Invalid, constant};
 use super::request::{Answer, Directive};
 use super::scene::{Object, Scene, spoken};
+use super::task::Shape;
 use super::term::{Subst, Sym, Term};
 
 /// What an adjective in words may say of an object.
@@ -64,6 +65,10 @@ pub enum Reference {
         keep: bool,
         words: String,
     },
+    /// "the mug or the cup": any one object any of `options` matches will do, as with an
+    /// indefinite. An option whose words name nothing here makes the whole match nothing:
+    /// the human may have meant just that one.
+    Either { options: Vec<Reference>, words: String },
 }
 
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
@@ -144,6 +149,9 @@ impl Reference {
             Reference::Narrowed { base, by, keep, .. } => {
                 !by.names_nothing() && base.matches(object) && by.matches(object) == *keep
             }
+            Reference::Either { options, .. } => {
+                !options.iter().any(Reference::names_nothing) && options.iter().any(|o| o.matches(object))
+            }
             Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
         }
     }
@@ -154,6 +162,7 @@ impl Reference {
         match self {
             Reference::Nothing { .. } | Reference::Pronoun { .. } => true,
             Reference::Narrowed { base, by, .. } => base.names_nothing() || by.names_nothing(),
+            Reference::Either { options, .. } => options.iter().any(Reference::names_nothing),
             Reference::Id(_) | Reference::Described { .. } | Reference::Spoken { .. } => false,
         }
     }
@@ -163,6 +172,7 @@ impl Reference {
         match self {
             Reference::Spoken { indefinite, .. } => *indefinite,
             Reference::Narrowed { base, .. } => base.indefinite(),
+            Reference::Either { .. } => true,
             _ => false,
         }
     }
@@ -172,6 +182,7 @@ impl Reference {
         match self {
             Reference::Nothing { unplaced, .. } => unplaced.clone(),
             Reference::Narrowed { base, by, .. } => base.unplaced().or_else(|| by.unplaced()),
+            Reference::Either { options, .. } => options.iter().find_map(Reference::unplaced),
             _ => None,
         }
     }
@@ -195,6 +206,7 @@ impl Reference {
             Reference::Spoken { words, .. }
             | Reference::Pronoun { words }
             | Reference::Nothing { words, .. }
+            | Reference::Either { words, .. }
             | Reference::Narrowed { words, .. } => words.clone(),
         }
     }
@@ -205,6 +217,10 @@ impl Reference {
             Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
             Reference::Spoken { kinds, .. } => kinds.first().map(|k| spoken(k)),
             Reference::Narrowed { base, .. } => base.noun(),
+            Reference::Either { options, .. } => {
+                let nouns: Vec<Option<String>> = options.iter().map(Reference::noun).collect();
+                nouns.windows(2).all(|w| w[0] == w[1]).then(|| nouns[0].clone()).flatten()
+            }
             _ => None,
         }
     }
@@ -234,6 +250,8 @@ pub(super) enum Template<'a> {
     Verb(Sym),
     /// The form with each variable (in first-appearance order) bound to its choice.
     Form(&'a Term, Vec<Sym>),
+    /// A task's steps, each argument bound to its slot's choice.
+    Task(Box<Shape>),
 }
 
 impl Template<'_> {
@@ -247,6 +265,7 @@ impl Template<'_> {
                 }
                 form.substitute(&subst)
             }
+            Template::Task(shape) => shape.action(values),
         }
     }
 }
@@ -263,28 +282,31 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
     }
 }
 
+/// The slot of one reference: every object of the scene it matches.
+pub(super) fn slot(reference: &Reference, scene: &Scene) -> Slot {
+    let candidates: Vec<(Term, f64)> = (scene.objects.iter())
+        .filter(|o| reference.matches(o))
+        .map(|o| (Term::Const(o.id.clone()), 1.0))
+        .collect();
+    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
+    Slot {
+        candidates,
+        words: reference.words(scene),
+        noun,
+        unplaced: reference.unplaced(),
+    }
+}
+
 pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
     match directive {
         Directive::Action { verb, arguments, .. } => {
-            let slots = arguments
-                .iter()
-                .map(|reference| {
-                    let candidates: Vec<(Term, f64)> = scene
-                        .objects
-                        .iter()
-                        .filter(|o| reference.matches(o))
-                        .map(|o| (Term::Const(o.id.clone()), 1.0))
-                        .collect();
-                    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
-                    Slot {
-                        candidates,
-                        words: reference.words(scene),
-                        noun,
-                        unplaced: reference.unplaced(),
-                    }
-                })
-                .collect();
+            let slots = arguments.iter().map(|reference| slot(reference, scene)).collect();
             (Template::Verb(Sym::from(verb.as_str())), slots)
+        }
+        // A task's slots are made with its shape (`Task::shape`), which its readings need too.
+        Directive::Task(task) => {
+            let (shape, slots, _) = task.shape(scene);
+            (Template::Task(Box::new(shape)), slots)
         }
         // Words are read into an action before anything is resolved; unread, they name nothing.
         Directive::Words { text } => (

@@ -5,8 +5,7 @@
 //! readings, or decide what to say.
 
 use super::action::{Library, Method, Step};
-use super::input::Spelled;
-use super::norms::{CompiledNorms, Force, InForce, NormKind, Scope, SoftMatch};
+use super::norms::{CompiledNorms, InForce, NormKind, Scope, SoftMatch};
 use super::scene::{Scene, grasp_width, room_on};
 use super::term::{Bound, Subst, Sym, Term};
 use super::world::{Base, KeyBit, World};
@@ -14,261 +13,9 @@ use super::world::{Base, KeyBit, World};
 /// Steps may expand into steps at most this deep; a deeper plan is a reason, not a crash.
 pub const MAX_PLAN_DEPTH: usize = 8;
 
-/// Why a reading is impermissible or infeasible, or a soft norm it meets.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Cause {
-    /// A soft norm (`kind` discouraged or preferred) met by `what`: the step done, for an action
-    /// norm, or the fact entered, for a state norm. `about` holds the norm's `when` facts, as
-    /// they held, that name one of the reading's own objects; `note` is the norm's.
-    Soft {
-        kind: NormKind,
-        what: Term,
-        about: Vec<Term>,
-        note: Option<std::sync::Arc<str>>,
-    },
-    /// `step` is done, and a norm forbids actions named `name`; `words` when that norm is
-    /// spoken by more than its kind (a note, or conditions).
-    ForbiddenAction {
-        step: Term,
-        name: Sym,
-        words: Option<Box<NormWords>>,
-    },
-    /// The world would enter a state in which `fact` holds, and a norm forbids it.
-    ForbiddenState { fact: Term, words: Option<Box<NormWords>> },
-    /// The library has no verb of this name and arity.
-    UnknownAction { verb: Sym },
-    /// The object is farther than the agent's reach.
-    Unreachable { object: Sym },
-    /// Another object is in the gripper's way to the object.
-    Blocked { object: Sym, by: Sym },
-    /// The object is wider than the gripper opens.
-    TooWide { object: Sym },
-    /// The object is heavier than the arm's payload.
-    TooHeavy { object: Sym },
-    /// The support has no room on top for the item.
-    NoRoom { item: Sym, support: Sym },
-    /// A handling step names something that is not an object of the scene.
-    UnknownObject { object: Term },
-    /// A verb's precondition does not hold when it would run.
-    Precondition { fact: Term },
-    /// The plan expands deeper than [`MAX_PLAN_DEPTH`].
-    PlanTooDeep { step: Term },
-    /// The request's deadline passed (or its client went away) before the simulation ended: what
-    /// was not simulated cannot be vouched for, so the reading is never offered or obeyed.
-    Unfinished,
-    /// A verb whose arguments must be distinct names one object twice: a cup put on itself.
-    SameObject {
-        verb: Sym,
-        object: Sym,
-        /// The verb's joiner ("on"), for the words.
-        joiner: Option<String>,
-    },
-}
+mod reason;
 
-/// What a forbidden norm says beyond its kind, for the words of a reason that must say no more
-/// than the norm does: its note, and the conditions under which it applied.
-#[derive(Clone, Debug, PartialEq)]
-pub struct NormWords {
-    pub note: Option<std::sync::Arc<str>>,
-    /// Whether the norm has conditions: when, roles, exempt roles or a context.
-    pub conditional: bool,
-    /// Its `when` facts about the reading's objects, as they held (an object's type left out).
-    pub about: Vec<Term>,
-    /// The norm's roles that the speaker has.
-    pub roles: Vec<String>,
-    pub exempt_roles: Vec<String>,
-    pub context: Option<String>,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Reason {
-    pub cause: Cause,
-    /// The norm behind a `forbidden_*` reason.
-    pub norm_id: Option<i64>,
-    /// That norm's severity, 1..=5.
-    pub severity: Option<u8>,
-}
-
-impl Reason {
-    /// The reason a reading cut short by the deadline carries.
-    pub fn unfinished() -> Reason {
-        Reason::infeasible(Cause::Unfinished)
-    }
-
-    /// A norm's reason: which norm, and its severity.
-    fn of_norm(cause: Cause, norm_id: i64, severity: u8) -> Reason {
-        Reason {
-            cause,
-            norm_id: Some(norm_id),
-            severity: Some(severity),
-        }
-    }
-
-    fn infeasible(cause: Cause) -> Reason {
-        Reason {
-            cause,
-            norm_id: None,
-            severity: None,
-        }
-    }
-
-    /// The contract's reason kind.
-    pub fn kind(&self) -> &'static str {
-        match self.cause {
-            Cause::Soft { kind, .. } => Spelled::as_str(kind),
-            Cause::ForbiddenAction { .. } => "forbidden_action",
-            Cause::ForbiddenState { .. } => "forbidden_state",
-            Cause::UnknownAction { .. } => "unknown_action",
-            Cause::Unreachable { .. } => "unreachable",
-            Cause::Blocked { .. } => "blocked",
-            Cause::TooWide { .. } => "too_wide",
-            Cause::TooHeavy { .. } => "too_heavy",
-            Cause::NoRoom { .. } => "no_room",
-            Cause::UnknownObject { .. } => "unknown_object",
-            Cause::Precondition { .. } => "precondition",
-            Cause::PlanTooDeep { .. } => "plan_too_deep",
-            Cause::SameObject { .. } => "same_object",
-            Cause::Unfinished => "unfinished",
-        }
-    }
-
-    /// What exactly: the forbidden step or fact, the unknown verb, the object out of reach.
-    pub fn detail(&self) -> String {
-        match &self.cause {
-            Cause::Soft { what, .. } => what.text(),
-            Cause::ForbiddenAction { step, .. } => step.text(),
-            Cause::ForbiddenState { fact, .. } | Cause::Precondition { fact } => fact.text(),
-            Cause::UnknownAction { verb } => verb.to_string(),
-            Cause::Unreachable { object } | Cause::TooWide { object } | Cause::TooHeavy { object } => {
-                object.to_string()
-            }
-            Cause::Blocked { object, by } => format!("{object} blocked by {by}"),
-            Cause::NoRoom { item, support } => format!("no room for {item} on {support}"),
-            Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
-            Cause::SameObject { object, .. } => object.to_string(),
-            Cause::Unfinished => "deadline".to_owned(),
-        }
-    }
-
-    /// The reason as a term, as speech acts carry it: `forbiddenAction(destroy)`.
-    pub fn term(&self) -> Term {
-        let (name, arg) = match &self.cause {
-            Cause::Soft { kind, what, .. } => {
-                // An action norm is named by its verb, as `forbiddenAction(destroy)` is.
-                let arg = match (kind.on_action(), what.name()) {
-                    (true, Some(verb)) => Term::Const(verb.clone()),
-                    _ => what.clone(),
-                };
-                (kind.reason_functor(), arg)
-            }
-            Cause::ForbiddenAction { name, .. } => {
-                (NormKind::ForbiddenAction.reason_functor(), Term::Const(name.clone()))
-            }
-            Cause::ForbiddenState { fact, .. } => (NormKind::ForbiddenState.reason_functor(), fact.clone()),
-            Cause::UnknownAction { verb } => ("unknownAction", Term::Const(verb.clone())),
-            Cause::Unreachable { object } => ("unreachable", Term::Const(object.clone())),
-            Cause::Blocked { object, by } => {
-                return Term::compound("blocked", vec![Term::Const(object.clone()), Term::Const(by.clone())]);
-            }
-            Cause::TooWide { object } => ("tooWide", Term::Const(object.clone())),
-            Cause::TooHeavy { object } => ("tooHeavy", Term::Const(object.clone())),
-            Cause::NoRoom { item, support } => {
-                return Term::compound("noRoom", vec![Term::Const(item.clone()), Term::Const(support.clone())]);
-            }
-            Cause::UnknownObject { object } => ("unknownObject", object.clone()),
-            Cause::Precondition { fact } => ("precondition", fact.clone()),
-            Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
-            Cause::SameObject { object, .. } => ("sameObject", Term::Const(object.clone())),
-            Cause::Unfinished => return Term::constant("unfinished"),
-        };
-        Term::compound(name, vec![arg])
-    }
-
-    /// A forbidden action or state: the reading is impermissible.
-    pub fn is_norm_violation(&self) -> bool {
-        matches!(self.cause, Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. })
-    }
-
-    /// A soft norm met: it ranks the reading and never makes it impermissible or infeasible.
-    pub fn is_soft(&self) -> bool {
-        matches!(self.cause, Cause::Soft { .. })
-    }
-
-    /// The force of a soft reason, if it is one.
-    pub fn force(&self) -> Option<Force> {
-        match &self.cause {
-            Cause::Soft { kind, .. } => Some(kind.force()),
-            _ => None,
-        }
-    }
-
-    /// What this reason adds to the norm score: a preferred norm's severity, minus a
-    /// discouraged norm's; 0 for every other reason.
-    pub fn norm_score(&self) -> i32 {
-        let severity = i32::from(self.severity.unwrap_or(0));
-        match self.force() {
-            Some(Force::Preferred) => severity,
-            Some(Force::Discouraged) => -severity,
-            _ => 0,
-        }
-    }
-}
-
-/// What simulating one reading found.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Outcome {
-    /// Every reason, in DIARC's check order, each once.
-    pub reasons: Vec<Reason>,
-    /// The primitive steps executed, in order.
-    pub plan: Vec<Term>,
-}
-
-impl Outcome {
-    /// Adds `reason` unless it is there already; a soft norm counts once per reading, at the
-    /// first step or state that met it.
-    fn push(&mut self, reason: Reason) {
-        let seen = if reason.is_soft() {
-            (self.reasons.iter()).any(|r| r.is_soft() && r.norm_id == reason.norm_id)
-        } else {
-            self.reasons.contains(&reason)
-        };
-        if !seen {
-            self.reasons.push(reason);
-        }
-    }
-
-    /// The simulation was cut short by the deadline: the reading is infeasible, and the answer
-    /// must say a limit was hit.
-    pub fn unfinished(&self) -> bool {
-        self.reasons.iter().any(|r| r.cause == Cause::Unfinished)
-    }
-
-    /// No forbidden action or state (soft norms never make a reading impermissible).
-    pub fn permissible(&self) -> bool {
-        !self.reasons.iter().any(Reason::is_norm_violation)
-    }
-
-    /// No reason that is not a norm's (soft norms never make a reading infeasible).
-    pub fn feasible(&self) -> bool {
-        self.reasons.iter().all(|r| r.is_norm_violation() || r.is_soft())
-    }
-
-    /// The first reason that is not a soft norm's: what a refusal or an explanation speaks.
-    pub fn first_hard(&self) -> Option<&Reason> {
-        self.reasons.iter().find(|r| !r.is_soft())
-    }
-
-    /// Preferred norms met minus discouraged norms broken, each by its severity, each norm
-    /// once: soft reasons are kept once per norm.
-    pub fn norm_score(&self) -> i32 {
-        self.reasons.iter().map(Reason::norm_score).sum()
-    }
-
-    /// The discouraged norms this reading breaks.
-    pub fn discouraged(&self) -> impl Iterator<Item = &Reason> {
-        self.reasons.iter().filter(|r| r.force() == Some(Force::Discouraged))
-    }
-}
+pub use reason::{Cause, NormWords, Outcome, Reason};
 
 /// The first object an action names twice, if any.
 fn repeated_argument(action: &Term) -> Option<Sym> {
@@ -358,10 +105,6 @@ pub struct Env<'a> {
     in_force: InForce,
     /// The speaker's roles: a conditional norm's words say which of its roles made it apply.
     roles: Vec<String>,
-    /// The relation the reading's own verb makes true, and the one the joiner said names
-    /// instead ("put X in Y": `on` becomes `in`). The reading's own step only: a step it calls
-    /// is not what the human said.
-    relation: Option<(Sym, Sym)>,
     /// Whether the request's deadline has passed or its client has gone: asked before every step
     /// is expanded, so that a verb whose plan explodes cannot hold a core past the deadline.
     pub expired: &'a (dyn Fn() -> bool + Sync),
@@ -375,16 +118,15 @@ impl<'a> Env<'a> {
         library: &'a Library,
         scope: Scope<'_>,
         base: &Base,
-        relation: Option<(Sym, Sym)>,
+        relations: &[(Sym, Sym)],
         expired: &'a (dyn Fn() -> bool + Sync),
     ) -> Env<'a> {
         // A fact holds in a reading's world only if the scene states it or a step made it true:
         // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
-        let said = relation.as_ref().map(|(_, to)| to.clone());
         let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(&DID.0, 2)];
         let mut any = false;
-        // The relation a joiner said makes true holds too ("put X in Y": `in`).
-        if let Some(to) = &said {
+        // The relations a joiner said makes true hold too ("put X in Y": `in`).
+        for (_, to) in relations {
             made.push((to, 2));
         }
         for fact in library.adds() {
@@ -404,7 +146,6 @@ impl<'a> Env<'a> {
             library,
             in_force,
             roles: scope.roles.to_vec(),
-            relation,
             expired,
         }
     }
@@ -417,6 +158,10 @@ struct Run<'a, 'b> {
     /// `did(self,reading)`, made once: the goal state checked first and the fact the reading's
     /// own step makes true.
     done: &'a Term,
+    /// The relation the reading's own verb makes true, and the one the joiner said names
+    /// instead ("put X in Y": `on` becomes `in`). The reading's own step only: a step it calls
+    /// is not what the human said.
+    relation: Option<&'a (Sym, Sym)>,
     world: World<'b>,
     outcome: Outcome,
     /// Set once `expired` said so: nothing more is expanded.
@@ -512,6 +257,7 @@ impl Run<'_, '_> {
                 env,
                 reading: self.reading,
                 done: self.done,
+                relation: self.relation,
                 world: self.world.clone(),
                 outcome: Outcome::default(),
                 stopped: false,
@@ -574,7 +320,7 @@ impl Run<'_, '_> {
         // The reading's own step (the same term, not only an equal one) is already done.
         let own = std::ptr::eq(action, self.reading);
         let done = if own { self.done.clone() } else { did(action) };
-        let relation = self.env.relation.as_ref().filter(|_| own);
+        let relation = self.relation.filter(|_| own);
         let said = |fact: Term| match relation {
             Some((from, to)) if fact.name() == Some(from) && fact.arity() == 2 => {
                 Term::compound(to, fact.args().to_vec())
@@ -651,23 +397,36 @@ impl Run<'_, '_> {
 /// directive against the forbidden actions; (2) `did(self,action)` against the forbidden states;
 /// (3) whether the verb is known; (4) each step: the step against the forbidden actions, the
 /// states its effects enter, its needs. It goes on past failures so that every reason is found.
-/// Hands back the outcome and `did(self,action)`, the reading as the answer names it.
-pub fn simulate(env: &Env<'_>, world: &World, action: &Term) -> (Outcome, Term) {
+/// `relation`: the one the joiner said makes true instead of the verb's own. Hands back the
+/// outcome and `did(self,action)`, the reading as the answer names it.
+pub fn simulate(env: &Env<'_>, world: &World, action: &Term, relation: Option<&(Sym, Sym)>) -> (Outcome, Term) {
     let done = did(action);
-    let (outcome, _) = run_from(env, world.clone(), action, &done);
+    let (outcome, _) = run_from(env, world.clone(), action, &done, relation);
     (outcome, done)
 }
 
 /// [`simulate`], handing back the world as the simulation left it, for a next step to start in.
-pub fn simulate_from<'b>(env: &Env<'_>, world: World<'b>, action: &Term) -> (Outcome, World<'b>) {
-    run_from(env, world, action, &did(action))
+pub fn simulate_from<'b>(
+    env: &Env<'_>,
+    world: World<'b>,
+    action: &Term,
+    relation: Option<&(Sym, Sym)>,
+) -> (Outcome, World<'b>) {
+    run_from(env, world, action, &did(action), relation)
 }
 
-fn run_from<'b>(env: &Env<'_>, world: World<'b>, action: &Term, done: &Term) -> (Outcome, World<'b>) {
+fn run_from<'b>(
+    env: &Env<'_>,
+    world: World<'b>,
+    action: &Term,
+    done: &Term,
+    relation: Option<&(Sym, Sym)>,
+) -> (Outcome, World<'b>) {
     let mut run = Run {
         env,
         reading: action,
         done,
+        relation,
         world,
         outcome: Outcome::default(),
         stopped: false,
@@ -681,4 +440,41 @@ fn run_from<'b>(env: &Env<'_>, world: World<'b>, action: &Term, done: &Term) -> 
     }
     run.run(action, true, 0);
     (run.outcome, run.world)
+}
+
+/// What the forbidden norms say of `purpose`, an act the human said the task is for and the
+/// robot is not asked to do: checked as a directive's action is, by checks (1) and (2), in
+/// `world` as the task has left it. Only hard norms: a purpose is not ranked. Each reason is
+/// a [`Cause::ForbiddenPurpose`] wrapping what the norm forbids.
+pub fn purpose_reasons(
+    env: &Env<'_>,
+    world: &World,
+    purpose: &Term,
+    said: &std::sync::Arc<[Option<String>]>,
+) -> Vec<Reason> {
+    let done = did(purpose);
+    let mut run = Run {
+        env,
+        reading: purpose,
+        done: &done,
+        relation: None,
+        world: world.clone(),
+        outcome: Outcome::default(),
+        stopped: false,
+    };
+    run.check_action(purpose);
+    if run.world.assert(done.clone()) {
+        run.check_entered(std::slice::from_ref(&done));
+    }
+    (run.outcome.reasons.into_iter())
+        .filter(Reason::is_norm_violation)
+        .map(|r| Reason {
+            cause: Cause::ForbiddenPurpose {
+                purpose: purpose.clone(),
+                cause: Box::new(r.cause),
+                said: said.clone(),
+            },
+            ..r
+        })
+        .collect()
 }

@@ -7,7 +7,7 @@
 use std::borrow::Cow;
 
 use super::decision::{Interpretation, Plan, Style, Unclear, Unfound};
-use super::describe::{Describer, reading_with};
+use super::describe::{Describer, is_task, reading_with};
 use super::norms::Force;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
@@ -108,6 +108,8 @@ pub fn speech_act(plan: &Plan, all: &[Interpretation], speaker: &Term) -> Term {
 /// The reason in the paper's words, as the contract's table gives them.
 pub fn diarc_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
     match &reason.cause {
+        // The purpose is said with the reading ([`refused`]); the reason is the norm's own.
+        Cause::ForbiddenPurpose { .. } => diarc_reason(&reason.behind_purpose(), describer),
         Cause::Soft { .. } => soft_words(reason, describer),
         Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
             if let Some(words) = said_of(reason, Style::Diarc, describer) =>
@@ -261,6 +263,7 @@ fn capitalise(text: &str) -> String {
 pub fn natural_reason(reason: &Reason, describer: &mut Describer<'_>) -> String {
     let grave = reason.severity.unwrap_or(3) >= 4;
     match &reason.cause {
+        Cause::ForbiddenPurpose { .. } => natural_reason(&reason.behind_purpose(), describer),
         Cause::Soft { .. } => soft_words(reason, describer),
         Cause::ForbiddenAction { .. } | Cause::ForbiddenState { .. }
             if let Some(words) = said_of(reason, Style::Natural, describer) =>
@@ -313,7 +316,33 @@ pub fn reason_words(reason: &Reason, style: Style, describer: &mut Describer<'_>
 
 /// `I cannot {reading} because {reason}` (diarc).
 fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
-    format!("I cannot {} because {}", reading(i), diarc_reason(&hard(i), describer))
+    let reason = hard(i);
+    format!("I cannot {} because {}", refused(i, &reason, describer), diarc_reason(&reason, describer))
+}
+
+/// A reading turned down for `reason`, in words: with the purpose the human gave when it is
+/// the purpose that is forbidden ("get the mug to destroy the vase").
+fn refused(i: &Interpretation, reason: &Reason, describer: &mut Describer<'_>) -> String {
+    match &reason.cause {
+        Cause::ForbiddenPurpose { purpose, said, .. } => {
+            // The purpose's objects as the human said them, or "it" for one the reading acts on.
+            let objects: Vec<&Term> = match is_task(action_of(i)) {
+                true => action_of(i).args().iter().flat_map(Term::args).collect(),
+                false => action_of(i).args().iter().collect(),
+            };
+            let mut words = Vec::with_capacity(purpose.arity());
+            for (j, argument) in purpose.args().iter().enumerate() {
+                words.push(match (said.get(j).cloned().flatten(), objects.contains(&argument)) {
+                    (Some(said), _) => said,
+                    (None, true) => "it".to_owned(),
+                    (None, false) => describer.argument(argument),
+                });
+            }
+            let joiner = describer.joiner_of(purpose);
+            format!("{} to {}", reading(i), reading_with(purpose, &words.join(&format!(" {joiner} "))))
+        }
+        _ => reading(i),
+    }
 }
 
 /// How firmly a reading is turned down in the natural style, by its first reason: a norm's
@@ -321,13 +350,14 @@ fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
 fn natural_refusal(i: &Interpretation, describer: &mut Describer<'_>) -> String {
     let reason = hard(i);
     let why = natural_reason(&reason, describer);
+    let what = refused(i, &reason, describer);
     if !reason.is_norm_violation() {
-        return format!("I can't {}: {why}.", reading(i));
+        return format!("I can't {what}: {why}.");
     }
     match reason.severity.unwrap_or(3) {
-        1 | 2 => format!("Sorry, I'd rather not {}: {why}.", reading(i)),
-        3 => format!("I won't {}: {why}.", reading(i)),
-        _ => format!("I will not {}. {}.", reading(i), capitalise(&why)),
+        1 | 2 => format!("Sorry, I'd rather not {what}: {why}."),
+        3 => format!("I won't {what}: {why}."),
+        _ => format!("I will not {what}. {}.", capitalise(&why)),
     }
 }
 
@@ -345,6 +375,10 @@ fn natural_grouped(which: &[usize], all: &[Interpretation], describer: &mut Desc
     let same = which.iter().zip(&words).all(|(&i, w)| {
         let a = &all[i];
         let (r, r0) = (hard(a), hard(first));
+        // A purpose is said with each reading: never grouped away.
+        if matches!(r.cause, Cause::ForbiddenPurpose { .. }) {
+            return false;
+        }
         a.action.args().get(1).and_then(Term::name) == Some(&verb)
             && a.action.args().get(1).map(Term::arity) == Some(1)
             && r.is_norm_violation() == r0.is_norm_violation()
@@ -394,8 +428,12 @@ fn action_of(i: &Interpretation) -> &Term {
     i.action.args().get(1).unwrap_or(&i.action)
 }
 
-/// A reading as a gerund: "getting the plastic vase".
+/// A reading as a gerund: "getting the plastic vase"; a task of several steps as "to" and
+/// its reading ("to get the mug and put it in the sink").
 fn doing(i: &Interpretation) -> String {
+    if is_task(action_of(i)) {
+        return format!("to {}", reading(i));
+    }
     let verb = action_of(i).name().map(|n| gerund(n));
     match (verb, i.description.is_empty()) {
         (Some(verb), true) => verb,
@@ -499,7 +537,10 @@ fn not_understood(why: Unclear, words: &str) -> String {
         Unclear::Negated => {
             "I understood what you do not want me to do; tell me what you would like me to do.".to_owned()
         }
-        Unclear::Several => "Please ask me for one thing at a time.".to_owned(),
+        Unclear::Several => format!(
+            "Please ask me for at most {} things at a time.",
+            super::task::MAX_STEPS
+        ),
         Unclear::Unplaced => format!("I did not understand \"{words}\"."),
         Unclear::Unasked => format!("I did not ask anything that \"{words}\" answers."),
         Unclear::Deadline => "I ran out of time before I understood that.".to_owned(),
@@ -529,7 +570,8 @@ fn natural(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -
             let verbs: Vec<Option<&Term>> = offered.iter().map(|&i| all[i].action.args().get(1)).collect();
             let one_verb = verbs
                 .windows(2)
-                .all(|w| w[0].and_then(Term::name) == w[1].and_then(Term::name));
+                .all(|w| w[0].and_then(Term::name) == w[1].and_then(Term::name))
+                && !verbs.iter().flatten().any(|a| is_task(a));
             let (lead, mut items): (String, Vec<String>) = match verbs.first().copied().flatten() {
                 Some(action) if one_verb && action.arity() > 0 => (
                     format!("{} ", spoken(action.name().map(|n| &**n).unwrap_or_default())),

@@ -7,7 +7,8 @@ use utoipa::ToSchema;
 
 use crate::engine::decision::{Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
-    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms, Strategy,
+    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,
+    StepArgumentInput, StepInput, Strategy,
 };
 use crate::engine::resolve::ReferenceInput;
 use crate::engine::scene::{AgentInput, ObjectInput, SceneInput, Shape};
@@ -77,6 +78,40 @@ pub struct DirectiveBody {
     /// that relation the verb's effect (`put` by "in" makes `in(X,Y)` true).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joiner: Option<String>,
+    /// Several steps, in order, instead of `action` or `form` (1 to 8): each reading binds
+    /// every reference once and is simulated as one plan, the steps in order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<Vec<StepBody>>,
+}
+
+/// One step of a task: a verb, its arguments, and the joiner said between two of them.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StepBody {
+    pub action: String,
+    #[serde(default)]
+    pub arguments: Vec<StepArgumentBody>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joiner: Option<String>,
+}
+
+/// A reference (`id`, or `type` with attributes and properties), or `step` and `argument`:
+/// the object of argument `argument` of the earlier step `step` (both from 0).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StepArgumentBody {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<String>,
+    #[serde(rename = "type", default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attributes: Option<BTreeMap<String, Scalar>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub properties: Option<Vec<String>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub argument: Option<u64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
@@ -272,6 +307,32 @@ impl From<DirectiveBody> for DirectiveInput {
             bindings,
             text: d.text,
             joiner: d.joiner,
+            steps: d.steps.map(|steps| steps.into_iter().map(Into::into).collect()),
+        }
+    }
+}
+
+impl From<StepBody> for StepInput {
+    fn from(s: StepBody) -> Self {
+        StepInput {
+            action: Some(s.action),
+            arguments: Some(s.arguments.into_iter().map(Into::into).collect()),
+            joiner: s.joiner,
+        }
+    }
+}
+
+impl From<StepArgumentBody> for StepArgumentInput {
+    fn from(a: StepArgumentBody) -> Self {
+        StepArgumentInput {
+            reference: ReferenceInput {
+                id: a.id,
+                kind: a.kind,
+                attributes: a.attributes.map(texts),
+                properties: a.properties,
+            },
+            step: a.step,
+            argument: a.argument,
         }
     }
 }

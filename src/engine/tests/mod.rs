@@ -31,6 +31,7 @@ mod safety;
 mod scenes;
 mod shapes;
 mod soft;
+mod tasks;
 mod verbs;
 mod words;
 mod words_hostile;

@@ -124,26 +124,38 @@ fn a_vocative_is_a_name_never_a_verb_or_the_words_of_a_reference() {
 fn a_purpose_or_a_further_step_is_never_left_out() {
     let lab = lab();
     let norms = paper_norms();
-    for (text, why) in [
-        // "smash" is destroy's word: a purpose the norms could forbid is not read yet.
-        ("Grab the mug to smash the vase.", Unclear::Unplaced),
-        ("Grab the mug in order to destroy the notebook.", Unclear::Unplaced),
-        ("Grab the mug so I can smash it.", Unclear::Unplaced),
-        ("Get the mug for smashing the vase.", Unclear::Unplaced),
-        ("Get the mug to not reheat it.", Unclear::Unplaced),
-        ("Grab the mug, then smash.", Unclear::Several),
-        ("Grab the mug, and destroy the vase.", Unclear::Several),
-        ("Get the mug. Put it on the red notebook.", Unclear::Several),
-        ("Get the mug.Destroy the vase.", Unclear::Several),
-        ("Get the mug; destroy the vase", Unclear::Several),
+    // Destroying is forbidden: a purpose or a step that destroys is read and refused, never
+    // left out and obeyed.
+    for (text, kind) in [
+        ("Grab the mug to smash the vase.", DecisionKind::Refuse),
+        ("Grab the mug in order to destroy the notebook.", DecisionKind::Refuse),
+        ("Grab the mug so I can smash it.", DecisionKind::Refuse),
+        ("Get the mug for smashing the vase.", DecisionKind::Refuse),
+        ("Grab the mug, and destroy the vase.", DecisionKind::Explain),
+        ("Get the mug.Destroy the vase.", DecisionKind::Explain),
+        ("Get the mug; destroy the vase", DecisionKind::Explain),
     ] {
         let d = run(&said(text), &lab, &norms);
-        assert_eq!(d.kind, DecisionKind::NotUnderstood, "{text}: {}", d.utterance);
-        assert_eq!(d.parse.as_ref().and_then(|p| p.unclear), Some(why), "{text}");
-        assert!(d.goal.is_none());
+        assert_eq!(d.kind, kind, "{text}: {}", d.utterance);
+        assert!(d.goal.is_none(), "{text}");
     }
     let d = run(&said("Grab the mug to smash the vase."), &lab, &norms);
-    assert_eq!(d.utterance, "I did not understand \"to smash the vase\".");
+    // Either vase: the purpose is said as the human said it, never as one of them.
+    assert_eq!(
+        d.utterance,
+        "I cannot get the mug to destroy the vase because destroy is forbidden action."
+    );
+    let d = run(&said("Grab the mug so I can smash it."), &lab, &norms);
+    assert_eq!(d.utterance, "I cannot get the mug to destroy it because destroy is forbidden action.");
+    // A step with nothing to act on, or a negated purpose, is not understood as a whole.
+    for text in ["Get the mug to not reheat it.", "Grab the mug, then smash."] {
+        let d = run(&said(text), &lab, &norms);
+        assert_eq!(d.kind, DecisionKind::NotUnderstood, "{text}: {}", d.utterance);
+        assert_eq!(d.parse.as_ref().and_then(|p| p.unclear), Some(Unclear::Unplaced), "{text}");
+    }
+    // Two steps the norms allow are a task, done whole.
+    let d = run(&said("Get the mug. Put it on the red notebook."), &lab, &norms);
+    assert_eq!(d.goal.as_ref().map(ToString::to_string).as_deref(), Some("did(self,and(get(object5),put(object5,object1)))"));
     // A purpose of a verb the robot does not know changes nothing, and is shown.
     let d = run(&said("Get the mug for reheating."), &lab, &norms);
     assert_eq!(d.kind, DecisionKind::Comply);

@@ -19,132 +19,19 @@
 //! not understood.
 
 use super::lexicon::{Lexicon, Noun, inflects};
-use super::tokens::{segments, sentences, tokens};
-use super::{Parse, Phrase, Understanding};
+pub(super) use super::vocabulary::{DETERMINERS, FUNCTION_WORDS, NEGATIONS, PRONOUNS};
+use super::vocabulary::{MANNER, QUESTION_WORDS, STEP_WORDS, STRUCTURE};
+use super::purpose::{Purposed, need_at, purpose_at, read_purpose};
+use super::steps::{COMMA, Clause, assemble, comma_segments, listed, split_clauses, topic, with_commas, without_commas};
+use super::tokens::{sentences, tokens};
+use super::{Phrase, Understanding};
+use crate::engine::task::MAX_STEPS;
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
 use crate::engine::describe::after_the_noun;
-use crate::engine::request::Directive;
 use crate::engine::resolve::{Reference, Sense};
 
-const DETERMINERS: &[&str] = &["the", "a", "an", "this", "that", "my", "your"];
-const PRONOUNS: &[&str] = &["it", "this", "that"];
-/// Words that open a question asking for information rather than action.
-const QUESTION_WORDS: &[&str] = &[
-    "what", "which", "who", "whom", "whose", "where", "when", "why", "how", "is", "are", "was", "were", "does", "did",
-    "do", "has", "have", "am", "should", "shall", "may", "might", "must",
-];
-/// Words that are never a verb, so never the unknown verb an imperative names: "on the mug"
-/// is not a request to "on" it.
-const FUNCTION_WORDS: &[&str] = &[
-    "the", "a", "an", "my", "your", "on", "onto", "in", "into", "inside", "upon", "at", "to", "with", "from", "of",
-    "by", "under", "over", "off", "up", "down", "for", "me", "us", "you", "i", "we", "and", "or", "not", "yes", "no",
-];
-/// The only words ever left out: how and when, never what or which. Each is a phrase; "please"
-/// and the beneficiary "for me" are left out without being shown as ignored.
-const MANNER: &[&[&str]] = &[
-    &["please"],
-    &["for", "me"],
-    &["for", "us"],
-    &["right", "now"],
-    &["right", "away"],
-    &["now"],
-    &["quickly"],
-    &["carefully"],
-    &["gently"],
-    &["slowly"],
-    &["immediately"],
-    &["again"],
-    &["soon"],
-    &["asap"],
-    &["instead"],
-    &["thanks"],
-    &["thank", "you"],
-];
-/// Words that open another step of the task ("and destroy the vase", "then smash").
-const STEP_WORDS: &[&str] = &["and", "then", "after", "afterwards", "next", "also"];
-/// Words that negate what follows.
-const NEGATIONS: &[&[&str]] = &[&["don't"], &["dont"], &["do", "not"], &["never"], &["not"]];
-/// Words the grammar knows as the shape of a reference it does not read yet: order, number,
-/// degree, relations and clauses. Found where a reference fails, they are the words said back
-/// as not understood ("second" in "the second notebook"), rather than "nothing is there".
-const STRUCTURE: &[&str] = &[
-    "first",
-    "second",
-    "third",
-    "fourth",
-    "fifth",
-    "sixth",
-    "seventh",
-    "eighth",
-    "ninth",
-    "tenth",
-    "last",
-    "next",
-    "other",
-    "another",
-    "two",
-    "three",
-    "four",
-    "five",
-    "six",
-    "seven",
-    "eight",
-    "nine",
-    "ten",
-    "both",
-    "all",
-    "every",
-    "each",
-    "some",
-    "any",
-    "either",
-    "neither",
-    "biggest",
-    "largest",
-    "smallest",
-    "tallest",
-    "shortest",
-    "heaviest",
-    "lightest",
-    "nearest",
-    "closest",
-    "farthest",
-    "furthest",
-    "leftmost",
-    "rightmost",
-    "highest",
-    "lowest",
-    "on",
-    "in",
-    "inside",
-    "under",
-    "below",
-    "beneath",
-    "above",
-    "near",
-    "beside",
-    "by",
-    "behind",
-    "left",
-    "right",
-    "front",
-    "from",
-    "with",
-    "of",
-    "at",
-    "that",
-    "which",
-    "who",
-    "not",
-    "but",
-    "except",
-    "than",
-    "and",
-    "or",
-    "to",
-];
 /// The most words of a reference after its last noun said back as not understood; a longer
 /// tail is reported as the whole reference.
 const MAX_UNPLACED_TAIL: usize = 12;
@@ -173,7 +60,7 @@ pub(super) fn is(words: &[String], at: usize, expected: &[&str]) -> bool {
 }
 
 /// The manner phrase at `at`, and how many words it takes.
-fn manner_at(words: &[String], at: usize) -> Option<(&'static [&'static str], usize)> {
+pub(super) fn manner_at(words: &[String], at: usize) -> Option<(&'static [&'static str], usize)> {
     MANNER.iter().find(|m| is(words, at, m)).map(|m| (*m, m.len()))
 }
 
@@ -195,7 +82,7 @@ fn shown(manner: &[&str]) -> bool {
 }
 
 /// Takes manner words off the end of `words`, noting those worth showing (in the order said).
-fn strip_trailing_manner(words: &mut Vec<String>, ignored: &mut Vec<String>) {
+pub(super) fn strip_trailing_manner(words: &mut Vec<String>, ignored: &mut Vec<String>) {
     let mut taken = Vec::new();
     'strip: while !words.is_empty() {
         for manner in MANNER {
@@ -260,24 +147,46 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
 }
 
 fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
-    let unclear = |why, words: String| Understanding::NotUnderstood { why, words };
     let mut sentences = sentences(tokens(text));
     let mut addressee = None;
-    // "Pepper! Get the mug.": a first sentence that can only be a name is the addressee. Any
-    // other sentence before the last is another step, not read yet.
+    // "Pepper! Get the mug.": a first sentence that can only be a name is the addressee.
     let words_of = |tokens: &[super::tokens::Token]| tokens.iter().map(|t| t.word.clone()).collect::<Vec<_>>();
-    if sentences.len() == 2 && is_name(&words_of(&sentences[0]), lexicon) {
+    if sentences.len() >= 2 && is_name(&words_of(&sentences[0]), lexicon) {
         addressee = Some(words_of(&sentences.remove(0)).join(" "));
     }
-    if sentences.len() > 1 {
-        let all: Vec<String> = sentences.iter().flat_map(|s| words_of(s)).collect();
-        return unclear(Unclear::Several, all.join(" "));
+    // "It is too sweet. Can you throw it away?": a first sentence that says what something is.
+    let topic = match sentences.len() {
+        2.. => topic(&words_of(&sentences[0]), lexicon),
+        _ => None,
+    };
+    if topic.is_some() {
+        sentences.remove(0);
     }
-    let mut segments = segments(sentences.pop().unwrap_or_default());
+    let mut clauses = Vec::new();
+    for sentence in sentences {
+        for (n, words) in split_clauses(with_commas(sentence), lexicon).into_iter().enumerate() {
+            match clause(comma_segments(words), n == 0, lexicon, &mut addressee) {
+                Ok(read) => clauses.push(read),
+                Err(not) => return not,
+            }
+        }
+    }
+    assemble(clauses, addressee, topic)
+}
+
+/// One clause: its verb and references, as the grammar's `clause` rule reads them, with
+/// what is set off by commas. `first`: it opens its sentence (a vocative may lead it).
+fn clause(
+    mut segments: Vec<Vec<String>>,
+    first: bool,
+    lexicon: &Lexicon,
+    addressee: &mut Option<String>,
+) -> Result<Clause, Understanding> {
+    let unclear = |why, words: String| Err(Understanding::NotUnderstood { why, words });
     let mut ignored = Vec::new();
     // A vocative at the start: one or two words that can only be a name, set off by a comma.
-    if segments.len() > 1 && is_name(&segments[0], lexicon) {
-        addressee = Some(segments.remove(0).join(" "));
+    if first && addressee.is_none() && segments.len() > 1 && is_name(&segments[0], lexicon) {
+        *addressee = Some(segments.remove(0).join(" "));
     }
     // What follows the clause, set off by commas, from the end: manner words, a vocative, a
     // narrowing of the last reference. Anything else set off belongs to the clause.
@@ -285,14 +194,13 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
     let mut trailing_ignored: Vec<Vec<String>> = Vec::new();
     while segments.len() > 1 {
         let last = segments.last().expect("more than one");
+        let listing = last.iter().any(|w| w == "and" || w == "or");
         if all_manner(last) {
             let (mut words, mut shown) = (last.clone(), Vec::new());
             strip_trailing_manner(&mut words, &mut shown);
             trailing_ignored.push(shown);
         } else if addressee.is_none() && is_name(last, lexicon) {
-            addressee = Some(last.join(" "));
-        } else if STEP_WORDS.contains(&last[0].as_str()) {
-            return unclear(Unclear::Several, segments.concat().join(" "));
+            *addressee = Some(last.join(" "));
         } else if let Some(negation) = NEGATIONS.iter().find(|n| is(last, 0, n)) {
             if *negation != ["not"] || last.len() == 1 {
                 return unclear(Unclear::Negated, last.join(" "));
@@ -301,7 +209,7 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
                 keep: false,
                 words: last[1..].to_vec(),
             });
-        } else if DETERMINERS.contains(&last[0].as_str()) || last.last().is_some_and(|w| w == "one") {
+        } else if !listing && (DETERMINERS.contains(&last[0].as_str()) || last.last().is_some_and(|w| w == "one")) {
             // "..., the red one please": manner after a narrowing is left out as anywhere.
             let (mut words, mut shown) = (last.clone(), Vec::new());
             strip_trailing_manner(&mut words, &mut shown);
@@ -313,15 +221,17 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         segments.pop();
     }
     narrowings.reverse();
-    let mut words: Vec<String> = segments.concat();
-    if words.is_empty() {
+    // The rest keeps its commas, as words of their own: they part the items of a list.
+    let mut words: Vec<String> = segments.join(&COMMA.to_owned());
+    if words.iter().all(|w| w == COMMA) {
         return unclear(Unclear::Empty, String::new());
     }
     let mut act = Act::Command;
+    let mut needed = false;
     // Frames, politeness and manner at the start, in any order they come: "please can you go
     // and ...", "now get ...".
     loop {
-        if is(&words, 0, &["just"]) {
+        if is(&words, 0, &[COMMA]) || is(&words, 0, &["just"]) {
             words.remove(0);
         } else if let Some((manner, n)) = manner_at(&words, 0) {
             if shown(manner) {
@@ -349,6 +259,12 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         {
             words.drain(..n);
             act = Act::Want;
+        } else if let Some((n, as_act)) = need_at(&words) {
+            // "I need the mug", "can I have the mug": a request to bring it.
+            words.drain(..n);
+            act = as_act;
+            needed = true;
+            break;
         } else if is(&words, 0, &["go", "and"]) {
             words.drain(..2);
         } else if is(&words, 0, &["go"]) && words.len() > 1 && verb_at(&words, 1, lexicon).is_some() {
@@ -359,35 +275,50 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
     }
     // Manner and politeness at the end: "... for me", "... now, please".
     strip_trailing_manner(&mut words, &mut ignored);
+    while words.last().is_some_and(|w| w == COMMA) {
+        words.pop();
+        strip_trailing_manner(&mut words, &mut ignored);
+    }
     ignored.extend(trailing_ignored.into_iter().rev().flatten());
+    let said = |words: &[String]| without_commas(words).join(" ");
     if words.is_empty() {
         return unclear(Unclear::Empty, String::new());
     }
     if NEGATIONS.iter().any(|n| is(&words, 0, n)) {
-        return unclear(Unclear::Negated, words.join(" "));
+        return unclear(Unclear::Negated, said(&words));
     }
-    if QUESTION_WORDS.contains(&words[0].as_str()) || ["can", "could", "will", "would"].contains(&words[0].as_str()) {
-        return unclear(Unclear::Question, words.join(" "));
+    if !needed
+        && (QUESTION_WORDS.contains(&words[0].as_str()) || ["can", "could", "will", "would"].contains(&words[0].as_str()))
+    {
+        return unclear(Unclear::Question, said(&words));
     }
-    if words.iter().any(|w| STEP_WORDS[..2].contains(&w.as_str())) {
-        return unclear(Unclear::Several, words.join(" "));
+    if words.iter().any(|w| w == "then") {
+        return unclear(Unclear::Unplaced, said(&words));
     }
-    let (verb, arity, joiners, mut rest) = match verb_at(&words, 0, lexicon) {
-        Some((phrase, taken)) => {
-            let rest = split_particle(&words[taken..], phrase);
-            (phrase.verb.clone(), phrase.arity, phrase.joiners.clone(), rest)
+    let (verb, arity, joiners, mut rest) = if needed {
+        match lexicon.verbs.iter().find(|p| p.words == ["bring"]) {
+            Some(phrase) => (phrase.verb.clone(), phrase.arity, phrase.joiners.clone(), words.clone()),
+            None => ("bring".to_owned(), 1, Vec::new(), words.clone()),
         }
-        None => {
-            // An imperative of a verb no verb's word names: the unknown verb it names, as the
-            // structured directive gives it. Anything else is not a directive's shape.
-            let opens_reference = words
-                .get(1)
-                .is_some_and(|w| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str()));
-            let function_word = FUNCTION_WORDS.contains(&words[0].as_str()) || PRONOUNS.contains(&words[0].as_str());
-            if !(opens_reference && !function_word && verb_name(&words[0]).is_ok()) {
-                return unclear(Unclear::Unplaced, words.join(" "));
+    } else {
+        match verb_at(&words, 0, lexicon) {
+            Some((phrase, taken)) => {
+                let rest = split_particle(&words[taken..], phrase);
+                (phrase.verb.clone(), phrase.arity, phrase.joiners.clone(), rest)
             }
-            (words[0].clone(), 1, Vec::new(), words[1..].to_vec())
+            None => {
+                // An imperative of a verb no verb's word names: the unknown verb it names, as
+                // the structured directive gives it. Anything else is not a directive's shape.
+                let opens_reference = words
+                    .get(1)
+                    .is_some_and(|w| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str()));
+                let function_word =
+                    FUNCTION_WORDS.contains(&words[0].as_str()) || PRONOUNS.contains(&words[0].as_str());
+                if !(opens_reference && !function_word && verb_name(&words[0]).is_ok()) {
+                    return unclear(Unclear::Unplaced, said(&words));
+                }
+                (words[0].clone(), 1, Vec::new(), words[1..].to_vec())
+            }
         }
     };
     // A beneficiary: "get me the mug", "hand me the mug".
@@ -395,17 +326,34 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         rest.remove(0);
     }
     // A purpose after the reference ("to smash the vase") is not the robot's step, but it says
-    // what the human wants: one whose verb the robot knows could be forbidden, and is not read
-    // yet, so the words are not understood. One whose verb is unknown ("for reheating") is
-    // shown as ignored.
-    if let Some((at, verb_at_word)) = purpose_at(&rest, &joiners) {
-        let purpose = &rest[at..];
-        let negated = purpose.iter().any(|w| NEGATIONS.iter().any(|n| n[0] == w));
-        if negated || verb_at(purpose, verb_at_word, lexicon).is_some() {
-            return unclear(Unclear::Unplaced, purpose.join(" "));
+    // what the human wants: one whose verb the robot knows is read and checked against the
+    // norms; one whose verb is unknown, or that names no object ("for reheating"), is shown as
+    // ignored. A negated one is not understood.
+    let mut purpose = None;
+    let plain = without_commas(&rest);
+    if let Some((at, verb_word)) = purpose_at(&plain, &joiners) {
+        let words = &plain[at..];
+        if words.iter().any(|w| NEGATIONS.iter().any(|n| n[0] == w)) {
+            return unclear(Unclear::Unplaced, words.join(" "));
         }
-        ignored.push(purpose.join(" "));
-        rest.truncate(at);
+        match read_purpose(words, verb_word, lexicon) {
+            Purposed::Read(read) => purpose = Some(read),
+            Purposed::Shown => ignored.push(words.join(" ")),
+            Purposed::Unplaced => return unclear(Unclear::Unplaced, words.join(" ")),
+        }
+        // The purpose's words in `rest`, commas and all, are those after the same count of words.
+        let mut kept = 0;
+        let cut = (rest.iter().position(|w| {
+            if w != COMMA {
+                kept += 1;
+            }
+            kept > at
+        }))
+        .unwrap_or(rest.len());
+        rest.truncate(cut);
+        while rest.last().is_some_and(|w| w == COMMA) {
+            rest.pop();
+        }
         strip_trailing_manner(&mut rest, &mut ignored);
     }
     // "get the cup not the red one": the rest excludes.
@@ -414,54 +362,61 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
             0,
             Narrowing {
                 keep: false,
-                words: rest[at + 1..].to_vec(),
+                words: without_commas(&rest[at + 1..]),
             },
         );
         rest.truncate(at);
     }
     // The joiner the human said between two arguments: spoken back, and its relation made true.
     let mut said_joiner = None;
-    let spans: Vec<&[String]> = if arity == 0 {
+    let spans: Vec<Vec<String>> = if arity == 0 {
         // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
         if !rest.is_empty() || !narrowings.is_empty() {
-            return unclear(Unclear::Unplaced, words.join(" "));
+            return unclear(Unclear::Unplaced, said(&words));
         }
         Vec::new()
     } else if rest.is_empty() {
-        return unclear(Unclear::Unplaced, words.join(" "));
+        return unclear(Unclear::Unplaced, said(&words));
     } else if arity == 2 {
         match (1..rest.len()).find(|&i| joiners.contains(&rest[i])) {
             Some(i) if i + 1 < rest.len() => {
                 said_joiner = Some(rest[i].clone());
-                vec![&rest[..i], &rest[i + 1..]]
+                vec![rest[..i].to_vec(), without_commas(&rest[i + 1..])]
             }
             // Two arguments and no joiner between them: the words do not say which is which.
-            _ => return unclear(Unclear::Unplaced, words.join(" ")),
+            _ => return unclear(Unclear::Unplaced, said(&words)),
         }
     } else {
-        vec![&rest[..]]
+        vec![rest.clone()]
     };
-    let mut references: Vec<Phrase> = spans.iter().map(|span| reference(span, lexicon)).collect();
-    if let Some(last) = references.last_mut() {
+    // "Get the mug and the plate": a list as the first argument is one step for each item,
+    // each with the same other arguments.
+    let items = spans.first().map(|span| listed(span)).unwrap_or_default();
+    let mut steps: Vec<Vec<Phrase>> = Vec::new();
+    for (k, item) in items.iter().enumerate().take(MAX_STEPS + 1) {
+        let mut phrases = vec![reference(item, lexicon)];
+        if k == 0 {
+            phrases.extend(spans[1..].iter().map(|span| reference(span, lexicon)));
+        }
+        steps.push(phrases);
+    }
+    if arity == 0 {
+        steps.push(Vec::new());
+    }
+    if let Some(last) = steps.last_mut().and_then(|s| s.last_mut()) {
         for narrowing in narrowings {
             *last = narrowed(std::mem::replace(last, placeholder()), narrowing, lexicon);
         }
     }
-    let arguments = references.iter().map(|p| p.reference.clone()).collect();
-    Understanding::Directive {
-        directive: Directive::Action {
-            verb: verb.clone(),
-            arguments,
-            joiner: said_joiner,
-        },
-        parse: Parse {
-            act,
-            addressee,
-            verb,
-            references,
-            ignored,
-        },
-    }
+    Ok(Clause {
+        act,
+        verb,
+        steps,
+        shares: arity.saturating_sub(1),
+        joiner: said_joiner,
+        purpose,
+        ignored,
+    })
 }
 
 /// A phrase that names nothing, held while the one in its place is rebuilt.
@@ -517,52 +472,9 @@ pub(super) fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Ph
     }
 }
 
-/// Where a purpose starts in `rest` (after a reference's first word), and the position of its
-/// verb within it.
-fn purpose_at(rest: &[String], joiners: &[String]) -> Option<(usize, usize)> {
-    const SUBJECTS: &[&str] = &["i", "we", "you", "he", "she", "they"];
-    const MODALS: &[&str] = &["can", "could", "may", "might", "will", "would"];
-    /// Words after "to" that make it a place or a relation, not a purpose.
-    const NOT_A_VERB: &[&str] = &[
-        "right", "left", "front", "back", "top", "bottom", "side", "me", "us", "him", "her",
-    ];
-    (1..rest.len()).find_map(|i| {
-        let next = rest.get(i + 1).map(String::as_str);
-        if is(rest, i, &["in", "order", "to"]) {
-            return Some((i, 3));
-        }
-        if rest[i] == "to" && !joiners.iter().any(|j| j == "to") {
-            let w = next?;
-            // "to not reheat it" is a purpose too, negated.
-            let verb_like = ["not", "never"].contains(&w)
-                || !DETERMINERS.contains(&w)
-                    && !PRONOUNS.contains(&w)
-                    && !FUNCTION_WORDS.contains(&w)
-                    && !NOT_A_VERB.contains(&w)
-                    && !w.bytes().all(|b| b.is_ascii_digit());
-            return verb_like.then_some((i, 1));
-        }
-        if rest[i] == "so" {
-            let skip = usize::from(next == Some("that"));
-            let subject = rest.get(i + 1 + skip).map(String::as_str);
-            let modal = rest.get(i + 2 + skip).map(String::as_str);
-            if subject.is_some_and(|s| SUBJECTS.contains(&s)) && modal.is_some_and(|m| MODALS.contains(&m)) {
-                return Some((i, 3 + skip));
-            }
-        }
-        if rest[i] == "for"
-            && next.is_some_and(|w| w.len() > 4 && w.ends_with("ing"))
-            && !joiners.iter().any(|j| j == "for")
-        {
-            return Some((i, 1));
-        }
-        None
-    })
-}
-
 /// The verb phrase at `at`, and how many words it takes there: the first word inflected, the
 /// rest (particles) either next to it or, split, after the reference ("pick the sponge up").
-fn verb_at<'l>(words: &[String], at: usize, lexicon: &'l Lexicon) -> Option<(&'l VerbPhrase, usize)> {
+pub(super) fn verb_at<'l>(words: &[String], at: usize, lexicon: &'l Lexicon) -> Option<(&'l VerbPhrase, usize)> {
     let first = words.get(at)?;
     let mut split = None;
     for phrase in lexicon.verbs {
@@ -582,7 +494,7 @@ fn verb_at<'l>(words: &[String], at: usize, lexicon: &'l Lexicon) -> Option<(&'l
 }
 
 /// The words after a verb whose particles come after its object: the particles taken out.
-fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String> {
+pub(super) fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String> {
     let particles = &phrase.words[1..];
     let mut rest = rest.to_vec();
     if particles.is_empty() || rest.len() < particles.len() || rest[..particles.len()] == *particles {
@@ -599,6 +511,25 @@ fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String> {
 /// is said back ("pls" in "the mug pls").
 pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let words = span.join(" ");
+    // "the mug or the cup": any one of them will do.
+    if span.len() > 2 && span[1..span.len() - 1].iter().any(|w| w == "or") {
+        let options: Vec<Reference> = (span.split(|w| w == "or"))
+            .map(|part| match part.is_empty() {
+                true => Reference::Nothing {
+                    words: String::new(),
+                    unplaced: Some("or".to_owned()),
+                },
+                false => reference(part, lexicon).reference,
+            })
+            .collect();
+        return Phrase {
+            reference: Reference::Either {
+                options,
+                words: words.clone(),
+            },
+            words,
+        };
+    }
     if span.len() == 1 && PRONOUNS.contains(&span[0].as_str())
         || span.len() == 2 && ["this", "that"].contains(&span[0].as_str()) && span[1] == "one"
     {

@@ -10,15 +10,19 @@
 mod answer;
 mod grammar;
 mod lexicon;
+mod purpose;
+mod steps;
 mod tokens;
+mod vocabulary;
 
 pub use grammar::grammar_word;
 pub use lexicon::inflects;
 
 use super::action::Library;
-use super::decision::{Act, ReferenceParse, Unclear, Understood};
+use super::decision::{Act, BoundTo, PronounBound, PurposeUnderstood, ReferenceParse, StepUnderstood, Unclear, Understood};
 use super::request::{Answer, Directive};
 use super::resolve::Reference;
+use super::task::Argument;
 use super::scene::Scene;
 use super::simulate::did;
 use super::term::{Sym, Term};
@@ -37,46 +41,173 @@ pub struct Parse {
     pub act: Act,
     /// Who was addressed, if a vocative named someone ("pepper").
     pub addressee: Option<String>,
-    /// The verb the words name (or the unknown word in its place: "juggle").
+    /// The verb the words name (or the unknown word in its place: "juggle"); a task's first.
     pub verb: String,
+    /// Each reference that makes an object of its own, in order (a pronoun bound to an earlier
+    /// step's argument is that argument's).
     pub references: Vec<Phrase>,
     /// Trailing words that select no object and were left out ("for reheating", "now").
     pub ignored: Vec<String>,
+    /// A task's steps, in order; empty for a directive of one step and no purpose.
+    pub steps: Vec<StepRead>,
+    /// What the task is for, when it names an act the robot knows and objects.
+    pub purposes: Vec<PurposeRead>,
+}
+
+/// One step of a task as said.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepRead {
+    pub act: Act,
+    pub verb: String,
+    pub arguments: Vec<ArgumentRead>,
+}
+
+/// One argument as said, and, for a pronoun or a shared argument, the earlier step's argument
+/// it is: (step, argument).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArgumentRead {
+    pub phrase: Phrase,
+    pub bound: Option<(usize, usize)>,
+}
+
+impl ArgumentRead {
+    fn said(phrase: Phrase) -> ArgumentRead {
+        ArgumentRead { phrase, bound: None }
+    }
+}
+
+/// A purpose read: "to smash the vase", the verb it names, its arguments, and the step it was
+/// said with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PurposeRead {
+    pub words: String,
+    pub verb: String,
+    pub arguments: Vec<ArgumentRead>,
+    pub after: usize,
+}
+
+/// The variable of the `i`th object in a parse's forms.
+fn variable(i: usize) -> Term {
+    const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
+    Term::Var(match VARIABLES.get(i) {
+        Some(v) => Sym::from(*v),
+        None => Sym::from(format!("X{i}").as_str()),
+    })
 }
 
 impl Parse {
     /// What the answer shows of a parse: the logical form after pragmatics, one variable per
-    /// reference (`want(human,did(self,put(X,Y)))`), and each reference's candidates.
+    /// reference (`want(human,did(self,put(X,Y)))`; a task's `and(get(X),put(X,Y))`), each
+    /// reference's candidates, and a task's steps with how each pronoun was bound.
     pub fn understood(&self, speaker: &Term, scene: &Scene) -> Understood {
-        const VARIABLES: [&str; 4] = ["X", "Y", "Z", "W"];
-        let arguments = (0..self.references.len())
-            .map(|i| {
-                Term::Var(match VARIABLES.get(i) {
-                    Some(v) => Sym::from(*v),
-                    None => Sym::from(format!("X{i}").as_str()),
-                })
+        let candidates = |reference: &Reference| -> Vec<String> {
+            (scene.objects.iter())
+                .filter(|o| reference.matches(o))
+                .map(|o| o.id.to_string())
+                .collect()
+        };
+        let references = (self.references.iter())
+            .map(|p| ReferenceParse {
+                words: p.words.clone(),
+                candidates: candidates(&p.reference),
             })
             .collect();
-        let action = Term::compound(&self.verb, arguments);
-        let form = Term::compound("want", vec![speaker.clone(), did(&action)]);
-        Understood {
+        let mut understood = Understood {
             act: self.act,
             addressee: self.addressee.clone(),
-            form: Some(form),
-            references: (self.references.iter())
-                .map(|p| ReferenceParse {
-                    words: p.words.clone(),
-                    candidates: (scene.objects.iter())
-                        .filter(|o| p.reference.matches(o))
-                        .map(|o| o.id.to_string())
-                        .collect(),
-                })
-                .collect(),
+            form: None,
+            references,
             ignored: self.ignored.clone(),
             unclear: None,
+            steps: Vec::new(),
+            purposes: Vec::new(),
+        };
+        if self.steps.is_empty() {
+            let arguments = (0..self.references.len()).map(variable).collect();
+            let action = Term::compound(&self.verb, arguments);
+            understood.form = Some(Term::compound("want", vec![speaker.clone(), did(&action)]));
+            return understood;
         }
+        // Each argument's variable: its own, or the one of the argument it is bound to.
+        let mut variables: Vec<Vec<Term>> = Vec::with_capacity(self.steps.len());
+        let mut next = 0;
+        let mut var_of = |a: &ArgumentRead, variables: &[Vec<Term>]| match a.bound {
+            Some((s, j)) => variables[s][j].clone(),
+            None => {
+                next += 1;
+                variable(next - 1)
+            }
+        };
+        for step in &self.steps {
+            let vars: Vec<Term> = step.arguments.iter().map(|a| var_of(a, &variables)).collect();
+            variables.push(vars);
+        }
+        let actions: Vec<Term> = (self.steps.iter().zip(&variables))
+            .map(|(s, vars)| Term::compound(&s.verb, vars.clone()))
+            .collect();
+        let whole = match actions.as_slice() {
+            [one] => one.clone(),
+            all => Term::compound("and", all.to_vec()),
+        };
+        understood.form = Some(Term::compound("want", vec![speaker.clone(), did(&whole)]));
+        let bound_to = |a: &ArgumentRead| match (a.bound, &a.phrase.reference) {
+            (Some((step, argument)), _) => BoundTo::Step { step, argument },
+            (None, Reference::Id(id)) => BoundTo::Focus(id.clone()),
+            (None, _) => BoundTo::Nothing,
+        };
+        let pronouns = |arguments: &[ArgumentRead]| -> Vec<PronounBound> {
+            (arguments.iter().enumerate())
+                .filter(|(_, a)| {
+                    let head = a.phrase.words.split(" (").next().unwrap_or_default();
+                    PRONOUN_WORDS.contains(&head)
+                })
+                .map(|(i, a)| PronounBound {
+                    words: a.phrase.words.clone(),
+                    argument: i,
+                    to: bound_to(a),
+                })
+                .collect()
+        };
+        understood.steps = (self.steps.iter().zip(actions))
+            .map(|(step, form)| StepUnderstood {
+                act: step.act,
+                form,
+                references: (step.arguments.iter())
+                    .map(|a| ReferenceParse {
+                        words: a.phrase.words.clone(),
+                        candidates: match a.bound {
+                            Some((s, j)) => candidates(&self.steps[s].arguments[j].phrase.reference),
+                            None => candidates(&a.phrase.reference),
+                        },
+                    })
+                    .collect(),
+                pronouns: pronouns(&step.arguments),
+            })
+            .collect();
+        understood.purposes = (self.purposes.iter())
+            .map(|p| {
+                let vars = (p.arguments.iter())
+                    .map(|a| match a.bound {
+                        Some((s, j)) => variables[s][j].clone(),
+                        None => {
+                            next += 1;
+                            variable(next - 1)
+                        }
+                    })
+                    .collect();
+                PurposeUnderstood {
+                    words: p.words.clone(),
+                    form: Some(Term::compound(&p.verb, vars)),
+                    after: p.after,
+                }
+            })
+            .collect();
+        understood
     }
 }
+
+/// The words read as a pronoun, for the parse to say how each was bound.
+const PRONOUN_WORDS: &[&str] = &["it", "them", "this", "that", "this one", "that one"];
 
 /// The outcome of reading the words.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,14 +233,36 @@ pub fn understand(
 ) -> Understanding {
     let lexicon = lexicon::Lexicon::new(scene, library, expired);
     let mut understood = grammar::read(text, &lexicon);
-    if let Understanding::Directive { directive, parse } = &mut understood
-        && let (Some(first), Directive::Action { arguments, .. }) = (focus.first(), directive)
-    {
-        for (argument, phrase) in arguments.iter_mut().zip(&mut parse.references) {
-            if point_at(argument, first) {
-                phrase.reference = argument.clone();
+    let (Understanding::Directive { directive, parse }, Some(first)) = (&mut understood, focus.first()) else {
+        return understood;
+    };
+    match directive {
+        Directive::Action { arguments, .. } => {
+            for (argument, phrase) in arguments.iter_mut().zip(&mut parse.references) {
+                if point_at(argument, first) {
+                    phrase.reference = argument.clone();
+                }
             }
         }
+        // A pronoun no earlier step binds is the object in focus, in the task and its parse.
+        Directive::Task(task) => {
+            let arguments = (task.steps.iter_mut().flat_map(|s| &mut s.arguments))
+                .chain(task.purposes.iter_mut().flat_map(|p| &mut p.arguments));
+            for argument in arguments {
+                if let Argument::Reference(reference) = argument {
+                    point_at(reference, first);
+                }
+            }
+            let said = (parse.steps.iter_mut().flat_map(|s| &mut s.arguments))
+                .chain(parse.purposes.iter_mut().flat_map(|p| &mut p.arguments))
+                .filter(|a| a.bound.is_none())
+                .map(|a| &mut a.phrase)
+                .chain(parse.references.iter_mut());
+            for phrase in said {
+                point_at(&mut phrase.reference, first);
+            }
+        }
+        Directive::Form { .. } | Directive::Words { .. } => {}
     }
     understood
 }

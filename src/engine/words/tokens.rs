@@ -109,17 +109,3 @@ pub(super) fn sentences(tokens: Vec<Token>) -> Vec<Vec<Token>> {
     out.retain(|s| !s.is_empty());
     out
 }
-
-/// Splits tokens into the comma-separated parts of the sentence.
-pub(super) fn segments(tokens: Vec<Token>) -> Vec<Vec<String>> {
-    let mut out: Vec<Vec<String>> = vec![Vec::new()];
-    for token in tokens {
-        let comma = token.comma;
-        out.last_mut().expect("never empty").push(token.word);
-        if comma {
-            out.push(Vec::new());
-        }
-    }
-    out.retain(|s| !s.is_empty());
-    out
-}

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
     InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
-    ShapeBody,
+    ShapeBody, StepArgumentBody, StepBody,
 };
 
 fn missing(field: &str) -> Error {
@@ -104,6 +104,27 @@ impl From<pb::Directive> for DirectiveBody {
             bindings,
             text: d.text,
             joiner: d.joiner,
+            steps: (!d.steps.is_empty()).then(|| d.steps.into_iter().map(StepBody::from).collect()),
+        }
+    }
+}
+
+impl From<pb::Step> for StepBody {
+    fn from(s: pb::Step) -> Self {
+        StepBody {
+            action: s.action,
+            arguments: (s.arguments.into_iter())
+                .map(|a| StepArgumentBody {
+                    id: a.id,
+                    kind: a.r#type,
+                    attributes: (!a.attributes.is_empty())
+                        .then(|| a.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
+                    properties: (!a.properties.is_empty()).then_some(a.properties),
+                    step: a.step,
+                    argument: a.argument,
+                })
+                .collect(),
+            joiner: s.joiner,
         }
     }
 }

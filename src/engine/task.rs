@@ -1,0 +1,285 @@
+//! A task: several steps in one directive ("Get the mug and put it in the sink."), and the
+//! purposes said with them ("… to smash the vase").
+//!
+//! Owns: a task's shape and its checks (an argument refers back only to an earlier step, at
+//! most [`MAX_STEPS`] steps), the slots its references make (each reference once: an argument
+//! that refers back shares the earlier step's slot, so every reading binds it to one object),
+//! and a task reading's action, words and simulation (its steps in order in one private
+//! world, effects carrying over, then its purposes against the forbidden norms). Must not:
+//! choose among readings or word a decision.
+
+use super::action::Library;
+use super::describe::Describer;
+use super::resolve::{Reference, Slot, slot};
+use super::scene::Scene;
+use super::simulate::{Env, Outcome, Reason, did, purpose_reasons, simulate_from};
+use super::term::{Sym, Term};
+use super::world::World;
+
+/// Most steps one directive may hold.
+pub const MAX_STEPS: usize = 8;
+/// A purpose's objects are checked combination by combination; the deadline is asked between
+/// this many.
+const PURPOSE_LOOK: usize = 64;
+
+/// One argument of a step: a reference of its own, or the object of an earlier step's argument.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Argument {
+    Reference(Reference),
+    /// The object of argument `argument` of step `step` (both from 0), an earlier step: "it"
+    /// in "get the mug and put it in the sink" is step 0's argument 0.
+    Earlier { step: usize, argument: usize },
+}
+
+/// One step: a verb and its arguments, and the joiner said between two of them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    pub verb: String,
+    pub arguments: Vec<Argument>,
+    pub joiner: Option<String>,
+}
+
+/// What the human said the task is for ("to smash the vase"): not a step of the robot's, but
+/// checked against the forbidden norms as the act it names, in the world after step `after`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Purpose {
+    /// The words as said ("to smash the vase").
+    pub words: String,
+    pub verb: String,
+    /// Its references; `Earlier` may name step `after` itself ("to smash it").
+    pub arguments: Vec<Argument>,
+    pub after: usize,
+}
+
+/// Steps in order, each checked as a directive's action is, and the purposes said with them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Task {
+    pub steps: Vec<Step>,
+    pub purposes: Vec<Purpose>,
+}
+
+impl Task {
+    /// Every reference of the task that makes a slot, in order: each step's own references,
+    /// arguments in order, steps in order.
+    pub fn references(&self) -> impl Iterator<Item = &Reference> {
+        (self.steps.iter().flat_map(|s| &s.arguments)).filter_map(|a| match a {
+            Argument::Reference(r) => Some(r),
+            Argument::Earlier { .. } => None,
+        })
+    }
+
+    /// The slots of the task's references, and how each step's arguments and each purpose's
+    /// name them. An `Earlier` argument must name an earlier step's existing argument (the
+    /// constructors check it; here it is trusted).
+    pub(super) fn shape(&self, scene: &Scene) -> (Shape, Vec<Slot>, Vec<Slot>) {
+        let mut slots = Vec::new();
+        let mut steps: Vec<(Sym, Vec<usize>)> = Vec::with_capacity(self.steps.len());
+        let place = |argument: &Argument, steps: &[(Sym, Vec<usize>)], slots: &mut Vec<Slot>| match argument {
+            Argument::Reference(reference) => {
+                slots.push(slot(reference, scene));
+                slots.len() - 1
+            }
+            Argument::Earlier { step, argument } => steps[*step].1[*argument],
+        };
+        for step in &self.steps {
+            let arguments = (step.arguments.iter())
+                .map(|a| place(a, &steps, &mut slots))
+                .collect();
+            steps.push((Sym::from(step.verb.as_str()), arguments));
+        }
+        // A purpose's own references are not slots: no reading binds them, and a purpose is
+        // forbidden when it is for any object they match.
+        let mut purpose_slots = Vec::new();
+        let purposes = (self.purposes.iter())
+            .map(|p| PurposeShape {
+                verb: Sym::from(p.verb.as_str()),
+                after: p.after,
+                said: (p.arguments.iter())
+                    .map(|a| match a {
+                        Argument::Reference(r) => Some(r.words(scene)),
+                        Argument::Earlier { .. } => None,
+                    })
+                    .collect(),
+                arguments: (p.arguments.iter())
+                    .map(|a| match a {
+                        Argument::Reference(reference) => {
+                            let found = slot(reference, scene);
+                            let objects = found.candidates.iter().map(|(t, _)| t.clone()).collect();
+                            purpose_slots.push(found);
+                            PurposeArgument::Objects(objects)
+                        }
+                        Argument::Earlier { step, argument } => PurposeArgument::Slot(steps[*step].1[*argument]),
+                    })
+                    .collect(),
+            })
+            .collect();
+        let joiners = self.steps.iter().map(|s| s.joiner.clone()).collect();
+        let shape = Shape {
+            steps,
+            joiners,
+            relations: Vec::new(),
+            purposes,
+        };
+        (shape, slots, purpose_slots)
+    }
+}
+
+/// A task resolved into slots: what a reading's values make of it.
+pub(super) struct Shape {
+    /// Each step's verb and, for each of its arguments, the slot it takes its object from.
+    pub(super) steps: Vec<(Sym, Vec<usize>)>,
+    /// The joiner said in each step, if any.
+    pub(super) joiners: Vec<Option<String>>,
+    /// The relation each step's joiner makes true instead of its verb's own, once checked
+    /// against the verbs ([`Shape::join`]).
+    pub(super) relations: Vec<Option<(Sym, Sym)>>,
+    pub(super) purposes: Vec<PurposeShape>,
+}
+
+pub(super) struct PurposeShape {
+    verb: Sym,
+    after: usize,
+    arguments: Vec<PurposeArgument>,
+    /// The words said for each argument that is the purpose's own reference.
+    said: std::sync::Arc<[Option<String>]>,
+}
+
+enum PurposeArgument {
+    Slot(usize),
+    /// Every object the purpose's own reference matches.
+    Objects(Vec<Term>),
+}
+
+impl Shape {
+    /// Checks each step's joiner against its verb and finds the relation it makes true; the
+    /// first joiner a verb does not take is handed back as (verb, joiner).
+    pub(super) fn join(&mut self, library: &Library) -> Result<(), (String, String)> {
+        self.relations = Vec::with_capacity(self.steps.len());
+        for ((verb, arguments), joiner) in self.steps.iter().zip(&self.joiners) {
+            let relation = match (joiner, library.get(verb, arguments.len())) {
+                (Some(said), Some(def)) => {
+                    if !def.takes_joiner(said) {
+                        return Err((verb.to_string(), said.clone()));
+                    }
+                    def.relation_for(said)
+                }
+                _ => None,
+            };
+            self.relations.push(relation);
+        }
+        Ok(())
+    }
+
+    /// The relations the steps' joiners make true, for the simulation's index of what can hold.
+    pub(super) fn said_relations(&self) -> Vec<(Sym, Sym)> {
+        self.relations.iter().flatten().cloned().collect()
+    }
+
+    /// A reading's action from its slots' values: the step's action for one step, else
+    /// `and(A1,A2,…)`, the steps' actions in order.
+    pub(super) fn action(&self, values: &[Term]) -> Term {
+        let step = |(verb, slots): &(Sym, Vec<usize>)| Term::compound(verb, slots.iter().map(|&s| values[s].clone()).collect());
+        match self.steps.as_slice() {
+            [one] => step(one),
+            steps => Term::compound("and", steps.iter().map(step).collect()),
+        }
+    }
+
+    /// The steps of a reading's action (made by [`Shape::action`]).
+    fn steps_of<'t>(&self, action: &'t Term) -> &'t [Term] {
+        match self.steps.len() {
+            1 => std::slice::from_ref(action),
+            _ => action.args(),
+        }
+    }
+
+    /// A reading in words: each step's verb and arguments, joined by " and ", an object named
+    /// by an earlier step spoken as "it" ("get the red mug and put it in the sink"); for one
+    /// step, its arguments only, as a directive's reading is described.
+    pub(super) fn words(&self, action: &Term, describer: &mut Describer<'_>) -> String {
+        // One step (said with a purpose) is described as any action is: by its arguments.
+        if self.steps.len() == 1 {
+            return describer.arguments_in_task(action, self.joiners[0].as_deref(), &[]);
+        }
+        let mut named: Vec<Term> = Vec::new();
+        let mut out = String::with_capacity(64);
+        for (i, step) in self.steps_of(action).iter().enumerate() {
+            if i > 0 {
+                out.push_str(" and ");
+            }
+            out.push_str(&describer.step_in_task(step, self.joiners[i].as_deref(), &named));
+            named.extend(step.args().iter().cloned());
+        }
+        out
+    }
+
+    /// Simulates a reading: its steps in order in one private copy of `world`, each starting
+    /// where the last left off and checked as a directive's action is, then each purpose in
+    /// the world its step left. Every reason of every step is kept, once; a step cut short by
+    /// the deadline ends the simulation (the reading is then unfinished). Hands back the
+    /// outcome and `did(self,action)`.
+    pub(super) fn simulate(&self, env: &Env<'_>, world: &World, action: &Term, values: &[Term]) -> (Outcome, Term) {
+        let mut outcome = Outcome::default();
+        let mut world = world.clone();
+        for (i, step) in self.steps_of(action).iter().enumerate() {
+            let (found, after) = simulate_from(env, world, step, self.relations.get(i).and_then(Option::as_ref));
+            world = after;
+            let unfinished = found.unfinished();
+            outcome.plan.extend(found.plan);
+            for reason in found.reasons {
+                outcome.push(reason);
+            }
+            if unfinished {
+                break;
+            }
+            for purpose in self.purposes.iter().filter(|p| p.after == i) {
+                if !purpose.check(env, &world, values, &mut outcome) {
+                    outcome.push(Reason::unfinished());
+                    return (outcome, did(action));
+                }
+            }
+        }
+        (outcome, did(action))
+    }
+}
+
+impl PurposeShape {
+    /// Checks the purpose for every combination of its objects, pushing what the forbidden
+    /// norms say; false when the deadline passed first.
+    fn check(&self, env: &Env<'_>, world: &World, values: &[Term], outcome: &mut Outcome) -> bool {
+        let lists: Vec<Vec<Term>> = (self.arguments.iter())
+            .map(|a| match a {
+                PurposeArgument::Slot(s) => values.get(*s).cloned().into_iter().collect(),
+                PurposeArgument::Objects(objects) => objects.clone(),
+            })
+            .collect();
+        if lists.is_empty() || lists.iter().any(Vec::is_empty) {
+            return true;
+        }
+        let mut choice = vec![0usize; lists.len()];
+        let mut n = 0usize;
+        loop {
+            if n > 0 && n % PURPOSE_LOOK == 0 && (env.expired)() {
+                return false;
+            }
+            n += 1;
+            let purpose = Term::compound(&self.verb, choice.iter().zip(&lists).map(|(&i, l)| l[i].clone()).collect());
+            for reason in purpose_reasons(env, world, &purpose, &self.said) {
+                outcome.push(reason);
+            }
+            // The next combination, the last list fastest.
+            let mut k = lists.len();
+            loop {
+                if k == 0 {
+                    return true;
+                }
+                k -= 1;
+                choice[k] += 1;
+                if choice[k] < lists[k].len() {
+                    break;
+                }
+                choice[k] = 0;
+            }
+        }
+    }
+}
