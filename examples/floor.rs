@@ -48,6 +48,8 @@ fn parse() -> ParseDto {
         }],
         ignored: vec![],
         unclear: None,
+        steps: vec![],
+        purposes: vec![],
     }
 }
 

@@ -140,7 +140,11 @@ fn candidate(value: &Value, at: &str) -> Result<pb::Candidate> {
 }
 
 fn directive(value: &Value, at: &str) -> Result<pb::Directive> {
-    let f = Fields::of(value, at, &["action", "arguments", "form", "bindings", "text"])?;
+    let f = Fields::of(
+        value,
+        at,
+        &["action", "arguments", "form", "bindings", "text", "joiner", "steps"],
+    )?;
     let mut bindings = HashMap::new();
     if let Some(map) = f.get("bindings") {
         let map = map
@@ -167,6 +171,34 @@ fn directive(value: &Value, at: &str) -> Result<pb::Directive> {
         form: f.string("form")?,
         bindings,
         text: f.string("text")?,
+        joiner: f.string("joiner")?,
+        steps: f
+            .list("steps")?
+            .into_iter()
+            .map(|(at, v)| step(v, &at))
+            .collect::<Result<_>>()?,
+    })
+}
+
+/// A step of a task: a verb, its arguments (a reference, or `step` and `argument`), a joiner.
+fn step(value: &Value, at: &str) -> Result<pb::Step> {
+    let f = Fields::of(value, at, &["action", "arguments", "joiner"])?;
+    let arguments = (f.list("arguments")?.into_iter())
+        .map(|(at, v)| {
+            let a = Fields::of(v, &at, &["id", "type", "attributes", "properties", "step", "argument"])?;
+            Ok(pb::StepArgument {
+                id: a.string("id")?,
+                r#type: a.string("type")?,
+                attributes: a.string_map("attributes")?,
+                properties: a.strings("properties")?,
+                step: a.count("step")?,
+                argument: a.count("argument")?,
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(pb::Step {
+        action: f.string("action")?.ok_or_else(|| format!("{at}.action: missing"))?,
+        arguments,
         joiner: f.string("joiner")?,
     })
 }

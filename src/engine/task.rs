@@ -259,7 +259,7 @@ impl PurposeShape {
         let mut choice = vec![0usize; lists.len()];
         let mut n = 0usize;
         loop {
-            if n > 0 && n % PURPOSE_LOOK == 0 && (env.expired)() {
+            if n > 0 && n.is_multiple_of(PURPOSE_LOOK) && (env.expired)() {
                 return false;
             }
             n += 1;

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-use crate::engine::decision::{Decision, Interpretation, Limits, Style, Understood};
+use crate::engine::decision::{BoundTo, Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
     AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,
     StepArgumentInput, StepInput, Strategy,
@@ -531,6 +531,54 @@ pub struct ParseDto {
     /// decision is `not_understood`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub unclear: Option<String>,
+    /// A task's steps, in order: present when the words hold several steps or a purpose.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub steps: Vec<StepParseDto>,
+    /// What the task is for, when the words say it with a verb the robot knows and objects
+    /// ("to smash the vase"): checked against the forbidden norms.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub purposes: Vec<PurposeParseDto>,
+}
+
+/// One step of a task in words.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct StepParseDto {
+    /// `command`, `indirect_request` or `want_statement`.
+    pub act: String,
+    /// The step's action with the whole form's variables: `put(X,Y)`.
+    pub form: String,
+    /// Each argument's words and the objects it may be (a pronoun's are its antecedent's).
+    pub references: Vec<ReferenceParseDto>,
+    /// How each pronoun of the step was bound.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub pronouns: Vec<PronounParseDto>,
+}
+
+/// A pronoun and what it was taken to mean: argument `argument` of the earlier step `step`,
+/// the object in `focus`, or nothing (`bound_to`: `step`, `focus` or `nothing`).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct PronounParseDto {
+    pub words: String,
+    /// The argument of its own step it stands in, from 0.
+    pub argument: u64,
+    pub bound_to: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub step: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub step_argument: Option<u64>,
+    /// The object in focus it was taken as.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub focus: Option<String>,
+}
+
+/// A purpose as the words said it ("to smash the vase"), the act it names (`destroy(Z)`), and
+/// the step it was said with (from 0).
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, ToSchema)]
+pub struct PurposeParseDto {
+    pub words: String,
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub form: Option<String>,
+    pub after: u64,
 }
 
 impl From<&Understood> for ParseDto {
@@ -547,6 +595,44 @@ impl From<&Understood> for ParseDto {
                 .collect(),
             ignored: u.ignored.clone(),
             unclear: u.unclear.map(|w| w.as_str().to_owned()),
+            steps: (u.steps.iter())
+                .map(|s| StepParseDto {
+                    act: s.act.as_str().to_owned(),
+                    form: s.form.text(),
+                    references: (s.references.iter())
+                        .map(|r| ReferenceParseDto {
+                            words: r.words.clone(),
+                            candidates: r.candidates.clone(),
+                        })
+                        .collect(),
+                    pronouns: (s.pronouns.iter())
+                        .map(|p| {
+                            let (bound_to, step, step_argument, focus) = match &p.to {
+                                BoundTo::Step { step, argument } => {
+                                    ("step", Some(*step as u64), Some(*argument as u64), None)
+                                }
+                                BoundTo::Focus(id) => ("focus", None, None, Some(id.clone())),
+                                BoundTo::Nothing => ("nothing", None, None, None),
+                            };
+                            PronounParseDto {
+                                words: p.words.clone(),
+                                argument: p.argument as u64,
+                                bound_to: bound_to.to_owned(),
+                                step,
+                                step_argument,
+                                focus,
+                            }
+                        })
+                        .collect(),
+                })
+                .collect(),
+            purposes: (u.purposes.iter())
+                .map(|p| PurposeParseDto {
+                    words: p.words.clone(),
+                    form: p.form.as_ref().map(Term::text),
+                    after: p.after as u64,
+                })
+                .collect(),
         }
     }
 }

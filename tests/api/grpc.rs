@@ -127,6 +127,28 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             bindings,
             text: opt(&directive["text"]),
             joiner: opt(&directive["joiner"]),
+            steps: directive["steps"]
+                .as_array()
+                .map(|steps| {
+                    steps
+                        .iter()
+                        .map(|s| pb::Step {
+                            action: s["action"].as_str().unwrap_or_default().to_owned(),
+                            arguments: (s["arguments"].as_array().into_iter().flatten())
+                                .map(|a| pb::StepArgument {
+                                    id: opt(&a["id"]),
+                                    r#type: opt(&a["type"]),
+                                    attributes: string_map(&a["attributes"]),
+                                    properties: strings(&a["properties"]),
+                                    step: a["step"].as_u64(),
+                                    argument: a["argument"].as_u64(),
+                                })
+                                .collect(),
+                            joiner: opt(&s["joiner"]),
+                        })
+                        .collect()
+                })
+                .unwrap_or_default(),
         }),
         scene: Some(pb::Scene {
             agent: Some(pb::Agent {

@@ -167,7 +167,7 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
         for (n, words) in split_clauses(with_commas(sentence), lexicon).into_iter().enumerate() {
             match clause(comma_segments(words), n == 0, lexicon, &mut addressee) {
                 Ok(read) => clauses.push(read),
-                Err(not) => return not,
+                Err((why, words)) => return Understanding::NotUnderstood { why, words },
             }
         }
     }
@@ -181,8 +181,8 @@ fn clause(
     first: bool,
     lexicon: &Lexicon,
     addressee: &mut Option<String>,
-) -> Result<Clause, Understanding> {
-    let unclear = |why, words: String| Err(Understanding::NotUnderstood { why, words });
+) -> Result<Clause, (Unclear, String)> {
+    let unclear = |why, words: String| Err((why, words));
     let mut ignored = Vec::new();
     // A vocative at the start: one or two words that can only be a name, set off by a comma.
     if first && addressee.is_none() && segments.len() > 1 && is_name(&segments[0], lexicon) {

@@ -237,6 +237,35 @@ impl From<DecisionDto> for pb::ClarifyResponse {
                     .collect(),
                 ignored: p.ignored,
                 unclear: p.unclear,
+                steps: (p.steps.into_iter())
+                    .map(|s| pb::ParsedStep {
+                        act: s.act,
+                        form: s.form,
+                        references: (s.references.into_iter())
+                            .map(|r| pb::ParsedReference {
+                                words: r.words,
+                                candidates: r.candidates,
+                            })
+                            .collect(),
+                        pronouns: (s.pronouns.into_iter())
+                            .map(|p| pb::ParsedPronoun {
+                                words: p.words,
+                                argument: p.argument,
+                                bound_to: p.bound_to,
+                                step: p.step,
+                                step_argument: p.step_argument,
+                                focus: p.focus,
+                            })
+                            .collect(),
+                    })
+                    .collect(),
+                purposes: (p.purposes.into_iter())
+                    .map(|p| pb::ParsedPurpose {
+                        words: p.words,
+                        form: p.form,
+                        after: p.after,
+                    })
+                    .collect(),
             }),
         }
     }
