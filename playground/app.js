@@ -227,6 +227,7 @@ const FIELD_CONTROLS = [
   ["/directive/action", "verb"],
   ["/directive/form", "form"],
   ["/directive/bindings", "bindings"],
+  ["/directive/steps", "steps"],
   ["/directive/text", "text"],
   ["/scene", "scene-json"],
   ["/speaker", "speaker"],
@@ -606,6 +607,49 @@ function showMode() {
   $("mode-action").hidden = m !== "action";
   $("mode-form").hidden = m !== "form";
   $("mode-words").hidden = m !== "words";
+  $("mode-steps").hidden = m !== "steps";
+}
+
+/** One argument of a step: `#id`, `@step.argument`, or a type with properties and attributes. */
+function stepArgument(text, field) {
+  const words = text.trim().split(/\s+/).filter(Boolean);
+  if (!words.length) throw new Problem({ title: "Check the steps", detail: "an argument is empty", field });
+  if (words.length === 1 && words[0].startsWith("#")) return { id: words[0].slice(1) };
+  if (words.length === 1 && words[0].startsWith("@")) {
+    const [step, argument] = words[0].slice(1).split(".").map(Number);
+    if (!Number.isInteger(step) || !Number.isInteger(argument)) {
+      throw new Problem({ title: "Check the steps", detail: `write a back-reference as @step.argument, not “${words[0]}”`, field });
+    }
+    return { step, argument };
+  }
+  const ref = {};
+  const props = [];
+  const attrs = {};
+  for (const [i, word] of words.entries()) {
+    if (word.includes("=")) Object.assign(attrs, attributes(word, `${field}/attributes`));
+    else if (i === 0) ref.type = word;
+    else props.push(word);
+  }
+  if (props.length) ref.properties = props;
+  if (Object.keys(attrs).length) ref.attributes = attrs;
+  return ref;
+}
+
+/** `verb: argument; argument; joiner=in`, one step a line. */
+function steps(text) {
+  const lines = text.split("\n").map((l) => l.trim()).filter(Boolean);
+  return lines.map((line, i) => {
+    const field = `/directive/steps/${i}`;
+    const at = line.indexOf(":");
+    const action = (at < 0 ? line : line.slice(0, at)).trim();
+    const step = { action, arguments: [] };
+    const rest = at < 0 ? "" : line.slice(at + 1);
+    for (const part of rest.split(";").map((p) => p.trim()).filter(Boolean)) {
+      if (part.startsWith("joiner=")) step.joiner = part.slice("joiner=".length).trim();
+      else step.arguments.push(stepArgument(part, `${field}/arguments/${step.arguments.length}`));
+    }
+    return step;
+  });
 }
 
 function list(text) {
@@ -682,6 +726,8 @@ function buildRequest() {
   } else if (mode() === "form") {
     directive.form = $("form").value.trim();
     directive.bindings = bindings($("bindings").value);
+  } else if (mode() === "steps") {
+    directive.steps = steps($("steps").value);
   } else if (!text) {
     throw new Problem({ title: "Check the form", detail: "write the human's words to send them alone", field: "/directive/text" });
   }
@@ -757,6 +803,25 @@ function parseFacts(p) {
     facts.push([`“${r.words}”`, r.candidates.length ? r.candidates.join(", ") : "matches nothing"]);
   }
   if (p.ignored.length) facts.push(["Left out", p.ignored.join("; ")]);
+  // A task: each step's act, form and references, and what each pronoun was bound to.
+  for (const [i, step] of (p.steps ?? []).entries()) {
+    const refs = step.references.map((r) => `“${r.words}”: ${r.candidates.length ? r.candidates.join(", ") : "nothing"}`);
+    const pronouns = (step.pronouns ?? []).map((b) => {
+      if (b.bound_to === "step") return `“${b.words}” is step ${b.step + 1}'s argument ${b.step_argument + 1}`;
+      if (b.bound_to === "focus") return `“${b.words}” is ${b.focus}, in focus`;
+      return `“${b.words}” names nothing`;
+    });
+    facts.push([
+      `Step ${i + 1}`,
+      h("span", { class: "parse-step" }, h("code", {}, step.form), ` (${step.act.replace("_", " ")}) `, [...refs, ...pronouns].join("; ")),
+    ]);
+  }
+  for (const purpose of p.purposes ?? []) {
+    facts.push([
+      "Purpose",
+      h("span", {}, `“${purpose.words}”`, purpose.form ? [", checked as ", h("code", {}, purpose.form)] : ", not checked"),
+    ]);
+  }
   return facts;
 }
 

@@ -237,6 +237,48 @@ pub(crate) fn as_rest_json(r: pb::ClarifyResponse) -> Value {
                 parse[key] = json!(value);
             }
         }
+        if !p.steps.is_empty() {
+            let steps: Vec<Value> = (p.steps.into_iter())
+                .map(|s| {
+                    let references: Vec<Value> = (s.references.into_iter())
+                        .map(|r| json!({"words": r.words, "candidates": r.candidates}))
+                        .collect();
+                    let mut step = json!({"act": s.act, "form": s.form, "references": references});
+                    if !s.pronouns.is_empty() {
+                        let pronouns: Vec<Value> = (s.pronouns.into_iter())
+                            .map(|b| {
+                                let mut bound = json!({"words": b.words, "argument": b.argument, "bound_to": b.bound_to});
+                                if let Some(step) = b.step {
+                                    bound["step"] = json!(step);
+                                }
+                                if let Some(argument) = b.step_argument {
+                                    bound["step_argument"] = json!(argument);
+                                }
+                                if let Some(focus) = b.focus {
+                                    bound["focus"] = json!(focus);
+                                }
+                                bound
+                            })
+                            .collect();
+                        step["pronouns"] = json!(pronouns);
+                    }
+                    step
+                })
+                .collect();
+            parse["steps"] = json!(steps);
+        }
+        if !p.purposes.is_empty() {
+            let purposes: Vec<Value> = (p.purposes.into_iter())
+                .map(|purpose| {
+                    let mut v = json!({"words": purpose.words, "after": purpose.after});
+                    if let Some(form) = purpose.form {
+                        v["form"] = json!(form);
+                    }
+                    v
+                })
+                .collect();
+            parse["purposes"] = json!(purposes);
+        }
         v["parse"] = parse;
     }
     v

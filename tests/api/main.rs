@@ -26,6 +26,7 @@ mod paper_demo;
 mod playground;
 mod replicas;
 mod soft;
+mod tasks;
 #[path = "../support/mod.rs"]
 mod support;
 mod tls;

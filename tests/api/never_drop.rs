@@ -53,11 +53,22 @@ async fn narrowing_and_negating_words_after_a_reference_are_never_dropped() {
 #[tokio::test]
 async fn a_purpose_or_a_step_that_could_be_forbidden_is_never_obeyed() {
     let app = with_paper_norms().await;
-    for text in ["Grab the mug to smash the vase.", "Grab the mug, then smash."] {
+    // A purpose the norms forbid is read and refused; a step with nothing to act on makes the
+    // whole not understood. Neither is ever obeyed in part.
+    for (text, decision) in [
+        ("Grab the mug to smash the vase.", "refuse"),
+        ("Grab the mug, then smash.", "not_understood"),
+        ("Grab the mug and smash the vase.", "refuse"),
+    ] {
         let answer = app.clarify(&said(text, red_things())).await;
-        assert_eq!(answer["decision"], "not_understood", "{text}: {answer}");
+        assert_eq!(answer["decision"], decision, "{text}: {answer}");
         assert!(answer["goal"].is_null());
     }
+    let answer = app.clarify(&said("Grab the mug to smash the vase.", red_things())).await;
+    assert_eq!(answer["utterance"], "I cannot get the mug to destroy the vase because destroy is forbidden action.");
+    assert_eq!(answer["interpretations"][0]["reasons"][0]["kind"], "forbidden_purpose");
+    assert_eq!(answer["parse"]["purposes"][0]["words"], "to smash the vase");
+    assert_eq!(answer["parse"]["purposes"][0]["form"], "destroy(Y)");
 }
 
 #[tokio::test]

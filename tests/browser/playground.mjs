@@ -174,6 +174,31 @@ try {
       (await page.locator("#scene-svg g.obj.forbidden").count()) === 0,
     "the drawing colours the dispreferred notebook apart from forbidden ones",
   );
+  // A task in words: each step's parse is shown, with what "it" was bound to.
+  await page.getByLabel("Human's words").fill("Get the mug and put it on the red notebook.");
+  await page.getByLabel("Human's words").press("Enter");
+  await page.waitForFunction(() => document.querySelectorAll(".parse-step").length === 2);
+  const stepsShown = await page.locator(".parse-step").allTextContents();
+  check(
+    stepsShown[0].includes("get(X)") && stepsShown[1].includes("put(X,Y)") && stepsShown[1].includes("is step 1's argument 1"),
+    "a task's parse shows each step and binds “it” to step 1",
+    stepsShown.join(" | "),
+  );
+  check((await page.textContent("#decision-kind")) === "comply", "the task is done whole");
+  // The same task through the steps editor: the same decision.
+  await page.getByLabel("several steps").check();
+  await page.getByLabel("Steps", { exact: true }).fill("get: mug\nput: @0.0; notebook color=red");
+  await page.getByRole("button", { name: "Ask Scruple" }).click();
+  await page.waitForFunction(() => JSON.parse(document.querySelector("#request-json").textContent).directive.steps);
+  const sent = JSON.parse(await page.textContent("#request-json"));
+  check(
+    sent.directive.steps.length === 2 && sent.directive.steps[1].arguments[0].step === 0,
+    "the steps editor sends directive.steps with a back-reference",
+    JSON.stringify(sent.directive),
+  );
+  await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "comply");
+  check((await page.textContent("#decision-kind")) === "comply", "the structured task is done whole too");
+
   check(pageErrors.length === 0, "no console or page errors (CSP included)", pageErrors.join(" | "));
   check(
     failedResponses.length === 1 && failedResponses[0] === "POST /v1/norms 422",
