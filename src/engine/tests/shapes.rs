@@ -2,13 +2,21 @@
 //! words it does not know, with narrowings, purposes and steps), references by type, by id and
 //! by attribute, forms with scored bindings, every kind of answer, roles and contexts, norms
 //! for roles, a custom verb of several methods with preconditions, the geometry checks (grasp,
-//! payload, clearance, placing), soft norms, `confirm_above_ratio`, `max_spoken`, and requests
-//! of more than 2,048 readings. Under the moral strategy, whatever the shape, nothing forbidden
-//! or infeasible is offered, assumed, confirmed or obeyed.
+//! payload, clearance, placing), soft norms, `confirm_above_ratio`, `max_spoken`, requests of
+//! more than 2,048 readings, and tasks of several steps (in words and structured, with
+//! pronouns, back-references and purposes). Under the moral strategy, whatever the shape,
+//! nothing forbidden or infeasible is offered, assumed, confirmed or obeyed; no step of a task
+//! so treated fails when its steps are checked alone in order (`/v1/check`'s path), and a
+//! purpose the norms forbid outright is never obeyed.
 
 use super::*;
 use crate::engine::action::ActionInput;
+use crate::engine::check::check as check_steps;
+use crate::engine::decision::Style;
+use crate::engine::describe::is_task;
+use crate::engine::norms::Scope;
 use crate::engine::request::Answer;
+use crate::engine::task::{Argument, Step, Task};
 
 const KINDS: [&str; 3] = ["vase", "mug", "box"];
 const COLOURS: [&str; 3] = ["red", "green", "blue"];
@@ -52,6 +60,9 @@ enum Shaped {
         candidates: Vec<(usize, Option<u8>)>,
     },
     Words(String),
+    /// A structured task: each step a verb and, per argument, a kind or a back-reference to
+    /// argument 0 of the step before.
+    Steps(Vec<(&'static str, usize, bool)>),
 }
 
 const VERBS: [&str; 6] = ["get", "destroy", "put", "tidy", "pointTo", "steal"];
@@ -68,6 +79,7 @@ fn arb_words() -> impl Strategy<Value = String> {
         "could you get",
         "please fetch",
         "steal",
+        "juggle",
         "juggle",
     ]);
     let determiner = prop::sample::select(vec!["the", "a", "", "that"]);
@@ -91,32 +103,91 @@ fn arb_words() -> impl Strategy<Value = String> {
         ", Pepper",
         " pls",
     ]);
-    (verb, determiner, adjective, noun, tail).prop_map(|(verb, determiner, adjective, noun, tail)| {
-        let words: Vec<&str> = [verb, determiner, adjective, noun]
-            .into_iter()
-            .filter(|w| !w.is_empty())
-            .collect();
-        format!("{}{tail}", words.join(" "))
-    })
+    // Another step, or a purpose, after the first clause; "on" only, so that the steps checked
+    // alone (which know no joiner) are the steps the task simulated.
+    let then = prop::sample::select(vec![
+        "",
+        "",
+        " and put it on the box",
+        ", then destroy it",
+        " and then get the mug",
+        ". Put it on the red box.",
+        " and the box",
+        " or the box",
+        " so I can smash it",
+        " so I can smash it",
+        " to smash the box",
+        " for smashing the vase",
+        " to put it on the box",
+        " and juggle it",
+        " and juggle it",
+        " and tidy up the vase",
+        ". It is fragile. Get it.",
+        " and get it, the green one",
+    ]);
+    let need = prop::sample::select(vec!["", "", "", "I need ", "Can I have "]);
+    (verb, determiner, adjective, noun, tail, then, need).prop_map(
+        |(verb, determiner, adjective, noun, tail, then, need)| {
+            let words: Vec<&str> = [verb, determiner, adjective, noun]
+                .into_iter()
+                .filter(|w| !w.is_empty())
+                .collect();
+            match need {
+                "" => format!("{}{tail}{then}", words.join(" ")),
+                need => format!("{need}{}{then}", words[1..].join(" ")),
+            }
+        },
+    )
+}
+
+/// Well-formed words of tasks and purposes: a first clause the scene can place, then another
+/// step, a list, an "or", or a purpose.
+fn arb_task_words() -> impl Strategy<Value = String> {
+    let verb = prop::sample::select(vec!["get", "grab", "take", "destroy", "tidy up", "juggle", "I need", "Can I have"]);
+    let colour = prop::sample::select(vec!["", "red ", "green ", "blue "]);
+    let kind = prop::sample::select(KINDS.to_vec());
+    let then = prop::sample::select(vec![
+        " and put it on the box",
+        " and then destroy it",
+        ". Put it on the red box.",
+        " and the mug",
+        " or the box",
+        " so I can smash it",
+        " to smash the box",
+        " for smashing the vase",
+        " to put it on the box",
+        ", then get the vase and put it on the mug",
+        " and juggle it",
+    ]);
+    (verb, colour, kind, then).prop_map(|(verb, colour, kind, then)| format!("{verb} the {colour}{kind}{then}"))
+}
+
+fn arb_steps() -> impl Strategy<Value = Vec<(&'static str, usize, bool)>> {
+    prop::collection::vec(
+        (prop::sample::select(vec!["get", "destroy", "put", "tidy", "pointTo"]), 0..3usize, any::<bool>()),
+        1..=4,
+    )
 }
 
 fn arb_shaped() -> impl Strategy<Value = Shaped> {
     let verb = || prop::sample::select(VERBS.to_vec());
     prop_oneof![
-        (verb(), (0..3usize, 0..3usize)).prop_map(|(verb, kinds)| Shaped::Types { verb, kinds }),
-        (verb(), (0..6usize, 0..6usize)).prop_map(|(verb, ids)| Shaped::Ids { verb, ids }),
-        (verb(), 0..3usize, 0..3usize, any::<bool>()).prop_map(|(verb, kind, colour, fragile)| Shaped::Attributes {
+        2 => (verb(), (0..3usize, 0..3usize)).prop_map(|(verb, kinds)| Shaped::Types { verb, kinds }),
+        2 => (verb(), (0..6usize, 0..6usize)).prop_map(|(verb, ids)| Shaped::Ids { verb, ids }),
+        2 => (verb(), 0..3usize, 0..3usize, any::<bool>()).prop_map(|(verb, kind, colour, fragile)| Shaped::Attributes {
             verb,
             kind,
             colour,
             fragile
         }),
-        (
+        2 => (
             prop::sample::select(vec!["get", "destroy", "tidy"]),
             prop::collection::vec((0..6usize, prop::option::of(0..=10u8)), 1..4)
         )
             .prop_map(|(verb, candidates)| Shaped::Form { verb, candidates }),
-        arb_words().prop_map(Shaped::Words),
+        2 => arb_words().prop_map(Shaped::Words),
+        3 => arb_task_words().prop_map(Shaped::Words),
+        2 => arb_steps().prop_map(Shaped::Steps),
     ]
 }
 
@@ -141,6 +212,8 @@ fn arb_norm() -> impl Strategy<Value = NormInput> {
     let term = prop::sample::select(vec![
         ("forbidden_action", "get(X)"),
         ("forbidden_action", "destroy"),
+        ("forbidden_action", "destroy"),
+        ("forbidden_state", "destroyed(X)"),
         ("forbidden_action", "put(X,Y)"),
         ("forbidden_action", "pointTo(X)"),
         ("forbidden_state", "holding(self,X)"),
@@ -292,6 +365,26 @@ impl Case {
                 }
             }
             Shaped::Words(text) => Directive::Words { text: text.clone() },
+            Shaped::Steps(steps) => Directive::Task(Task {
+                steps: (steps.iter().enumerate())
+                    .map(|(i, &(verb, kind, back))| {
+                        let first = match (back, i) {
+                            (true, 1..) => Argument::Earlier { step: i - 1, argument: 0 },
+                            _ => Argument::Reference(ty(KINDS[kind])),
+                        };
+                        let mut arguments = vec![first];
+                        if arity(verb) == 2 {
+                            arguments.push(Argument::Reference(ty("box")));
+                        }
+                        Step {
+                            verb: verb.into(),
+                            arguments,
+                            joiner: None,
+                        }
+                    })
+                    .collect(),
+                purposes: Vec::new(),
+            }),
         };
         // An answer by id names an object of the scene, as the request's checks make sure.
         let answer = match &self.answer {
@@ -334,7 +427,17 @@ fn arb_case() -> impl Strategy<Value = Case> {
         (any::<bool>(), any::<bool>(), any::<bool>()),
         arb_shaped(),
         arb_answer(),
-        prop::collection::vec(arb_norm(), 0..=4),
+        (prop::collection::vec(arb_norm(), 0..=4), prop::bool::weighted(0.25)).prop_map(|(mut norms, outright)| {
+            // The paper's own "destroying is forbidden", as often as a purpose could meet it.
+            if outright {
+                norms.push(NormInput {
+                    kind: Some("forbidden_action".into()),
+                    action: Some("destroy".into()),
+                    ..NormInput::default()
+                });
+            }
+            norms
+        }),
         prop::sample::select(vec![vec![], vec!["child"], vec!["owner"], vec!["child", "owner"]]),
         prop::sample::select(vec!["default", "hospital"]),
         prop_oneof![Just(SinglePermissible::Assume), Just(SinglePermissible::Confirm)],
@@ -446,8 +549,58 @@ proptest! {
             return Ok(());
         };
         check(&d)?;
+        check_tasks(&d, &case, &scene, &norms, &library)?;
         prop_assert_eq!(&clarify(&request, &scene, &norms, &library, &|| false).unwrap(), &d);
     }
+}
+
+/// A task offered, confirmed or acted on passes when its steps are checked alone, in order, in
+/// one world (`/v1/check`'s path, which shares no code with a task's readings but the
+/// simulation of one step); and a purpose the norms forbid outright (destroying, for anyone,
+/// anywhere) is never obeyed or offered.
+fn check_tasks(
+    d: &Decision,
+    case: &Case,
+    scene: &Scene,
+    norms: &CompiledNorms,
+    library: &Library,
+) -> Result<(), TestCaseError> {
+    let roles: Vec<String> = case.roles.iter().map(|r| (*r).to_owned()).collect();
+    let scope = Scope {
+        context: case.context,
+        roles: &roles,
+        soft: true,
+    };
+    let said_in = matches!(&case.directive, Shaped::Words(w) if w.contains(" in "));
+    for action in d.offered.iter().chain(&d.goal) {
+        let Some(task) = action.args().get(1).filter(|a| is_task(a)) else {
+            continue;
+        };
+        if said_in {
+            continue;
+        }
+        let checked = check_steps(task.args(), scene, norms, library, scope, Style::Diarc, &|| false);
+        prop_assert!(checked.permitted(), "offered {} ({}): {}", action, d.kind.as_str(), checked.utterance);
+    }
+    let destroy_forbidden = case.norms.iter().any(|n| {
+        n.kind.as_deref() == Some("forbidden_action")
+            && n.action.as_deref() == Some("destroy")
+            && n.when.is_none()
+            && n.roles.is_none()
+            && n.exempt_roles.is_none()
+            && n.context.is_none()
+    });
+    let purposed = |w: &str| ["so I can smash it", "to smash the box", "for smashing the vase"].iter().any(|p| w.contains(p));
+    // An answer that is a whole new directive ("Get the vase.") is decided afresh, without it.
+    let afresh = matches!(&case.answer, Some(Answer::Words(w)) if w.ends_with('.'));
+    if destroy_forbidden && !afresh && matches!(&case.directive, Shaped::Words(w) if purposed(w)) {
+        prop_assert!(
+            d.goal.is_none() && d.offered.is_empty(),
+            "a forbidden purpose went along: {}",
+            d.utterance
+        );
+    }
+    Ok(())
 }
 
 proptest! {
@@ -490,12 +643,14 @@ fn every_shape_reaches_every_decision_and_reason() {
     let strategy = arb_case();
     let (mut decisions, mut reasons): (BTreeMap<&str, usize>, BTreeMap<&str, usize>) = Default::default();
     let library = library();
+    let mut tasks = 0usize;
     for _ in 0..4000 {
         let case = strategy.new_tree(&mut runner).expect("a case").current();
         let Ok(d) = clarify(&case.request(), &case.scene(), &norms(&case.norms), &library, &|| false) else {
             continue;
         };
         *decisions.entry(d.kind.as_str()).or_default() += 1;
+        tasks += usize::from(d.interpretations.iter().any(|i| is_task(i.action.args().get(1).unwrap_or(&i.action))));
         for r in d.interpretations.iter().flat_map(|i| &i.outcome.reasons) {
             *reasons.entry(r.kind()).or_default() += 1;
         }
@@ -525,7 +680,11 @@ fn every_shape_reaches_every_decision_and_reason() {
         "same_object",
         "preferred_action",
         "discouraged_state",
+        "forbidden_purpose",
     ] {
         assert!(reasons.get(kind).is_some_and(|&n| n >= 5), "{kind}: {reasons:?}");
     }
+    assert!(tasks >= 50, "tasks decided: {tasks}");
 }
+
+

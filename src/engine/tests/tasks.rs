@@ -279,3 +279,80 @@ fn a_structured_task_is_decided_as_its_words_are() {
     assert_eq!(structured.goal, said.goal);
     assert_eq!(structured.utterance, said.utterance);
 }
+
+mod never_guess {
+    use proptest::prelude::*;
+
+    use super::{kitchen, none, words};
+    use crate::engine::decision::DecisionKind;
+    use crate::engine::describe::is_task;
+    use crate::engine::term::Term;
+
+    const ADJECTIVES: &[&str] = &["", "red", "blue", "fragile", "wet", "★", "second"];
+    const NOUNS: &[&str] = &["mug", "plate", "vase", "knife", "cup", "mugs", "one"];
+    const JOINS: &[&str] = &[" and ", ", then ", ". ", " and then ", " and after that "];
+
+    /// The object an adjective and a noun may name: every word true of it.
+    fn named(object: &crate::engine::scene::Object, adjective: &str, noun: &str) -> bool {
+        (noun == "one" || object.kind == noun)
+            && (adjective.is_empty()
+                || object.properties.iter().any(|p| p == adjective)
+                || object.attributes.values().any(|v| v == adjective))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(
+            std::env::var("SCRUPLE_PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000)
+        ))]
+
+        /// In a task of two steps, "get the A N and get (the B M | it)", whatever is offered or
+        /// acted on gets, at each step, an object that step's words name (the first step's
+        /// object for "it"); words the scene does not know act on nothing.
+        #[test]
+        fn no_step_acts_on_an_object_its_words_do_not_match(
+            a in prop::sample::select(ADJECTIVES),
+            n in prop::sample::select(NOUNS),
+            join in prop::sample::select(JOINS),
+            pronoun in any::<bool>(),
+            b in prop::sample::select(ADJECTIVES),
+            m in prop::sample::select(NOUNS),
+        ) {
+            let first = [a, n].iter().filter(|w| !w.is_empty()).copied().collect::<Vec<_>>().join(" ");
+            let second = if pronoun {
+                "it".to_owned()
+            } else {
+                ["the", b, m].iter().filter(|w| !w.is_empty()).copied().collect::<Vec<_>>().join(" ")
+            };
+            let text = format!("Get the {first}{join}get {second}.");
+            let scene = kitchen();
+            let d = crate::engine::tests::fixtures::run(&words(&text), &scene, &none());
+            let known = |w: &str| w.is_empty() || w == "one" || scene.objects.iter().any(|o| {
+                o.kind == w || o.properties.iter().any(|p| p == w) || o.attributes.values().any(|v| v == w)
+            });
+            if !(known(a) && known(n) && (pronoun || known(b) && known(m))) {
+                prop_assert!(
+                    matches!(d.kind, DecisionKind::Unresolved | DecisionKind::NotUnderstood),
+                    "{text}: {} ({})", d.utterance, d.kind.as_str()
+                );
+            }
+            for action in d.offered.iter().chain(&d.goal) {
+                let Some(task) = action.args().get(1).filter(|t| is_task(t)) else {
+                    return Err(TestCaseError::fail(format!("{text}: offered {action}, not a task")));
+                };
+                let object = |step: usize| match task.args()[step].args().first() {
+                    Some(Term::Const(id)) => scene.object(id).cloned(),
+                    _ => None,
+                };
+                let (Some(one), Some(two)) = (object(0), object(1)) else {
+                    return Err(TestCaseError::fail(format!("{text}: offered {action}")));
+                };
+                prop_assert!(named(&one, a, n), "{text}: step 1 got {}", one.id);
+                if pronoun {
+                    prop_assert_eq!(&two.id, &one.id, "{}: \"it\" is not the first step's object", text);
+                } else {
+                    prop_assert!(named(&two, b, m), "{text}: step 2 got {}", two.id);
+                }
+            }
+        }
+    }
+}

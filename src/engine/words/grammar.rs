@@ -329,25 +329,37 @@ fn clause(
     // what the human wants: one whose verb the robot knows is read and checked against the
     // norms; one whose verb is unknown, or that names no object ("for reheating"), is shown as
     // ignored. A negated one is not understood.
-    let mut purpose = None;
+    let mut purposes = Vec::new();
     let plain = without_commas(&rest);
-    if let Some((at, verb_word)) = purpose_at(&plain, &joiners) {
-        let words = &plain[at..];
-        if words.iter().any(|w| NEGATIONS.iter().any(|n| n[0] == w)) {
-            return unclear(Unclear::Unplaced, words.join(" "));
+    // Every purpose said, each up to the next ("… for reheating so I can smash it" is two).
+    let mut starts: Vec<(usize, usize)> = Vec::new();
+    let mut from = 0;
+    while from < plain.len()
+        && let Some((at, verb_word)) = purpose_at(&plain[from..], &joiners)
+    {
+        starts.push((from + at, verb_word));
+        from += at + verb_word;
+    }
+    if let Some(&(first, _)) = starts.first() {
+        for (k, &(at, verb_word)) in starts.iter().enumerate() {
+            let end = starts.get(k + 1).map_or(plain.len(), |&(next, _)| next);
+            let words = &plain[at..end];
+            if words.iter().any(|w| NEGATIONS.iter().any(|n| n[0] == w)) {
+                return unclear(Unclear::Unplaced, words.join(" "));
+            }
+            match read_purpose(words, verb_word, lexicon) {
+                Purposed::Read(read) => purposes.push(read),
+                Purposed::Shown => ignored.push(words.join(" ")),
+                Purposed::Unplaced => return unclear(Unclear::Unplaced, words.join(" ")),
+            }
         }
-        match read_purpose(words, verb_word, lexicon) {
-            Purposed::Read(read) => purpose = Some(read),
-            Purposed::Shown => ignored.push(words.join(" ")),
-            Purposed::Unplaced => return unclear(Unclear::Unplaced, words.join(" ")),
-        }
-        // The purpose's words in `rest`, commas and all, are those after the same count of words.
+        // The purposes' words in `rest`, commas and all, are those after the same count of words.
         let mut kept = 0;
         let cut = (rest.iter().position(|w| {
             if w != COMMA {
                 kept += 1;
             }
-            kept > at
+            kept > first
         }))
         .unwrap_or(rest.len());
         rest.truncate(cut);
@@ -414,7 +426,7 @@ fn clause(
         steps,
         shares: arity.saturating_sub(1),
         joiner: said_joiner,
-        purpose,
+        purposes,
         ignored,
     })
 }

@@ -31,7 +31,7 @@ pub(super) struct Clause {
     pub(super) steps: Vec<Vec<Phrase>>,
     pub(super) shares: usize,
     pub(super) joiner: Option<String>,
-    pub(super) purpose: Option<PurposeClause>,
+    pub(super) purposes: Vec<PurposeClause>,
     pub(super) ignored: Vec<String>,
 }
 
@@ -271,7 +271,7 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
             });
             joiners.push(clause.joiner.clone());
         }
-        if let Some(purpose) = clause.purpose {
+        for purpose in clause.purposes {
             let after = steps.len() - 1;
             let arguments = (purpose.phrases.into_iter())
                 .map(|phrase| {
