@@ -356,3 +356,36 @@ mod never_guess {
         }
     }
 }
+
+/// Found by a hostile pass of this feature's own: commas between imperatives, a connective with
+/// nothing after it, an unknown verb before "me", words after a pronoun.
+#[test]
+fn what_a_hostile_pass_found() {
+    let n = none();
+    for (text, expected) in [
+        ("Get the plate, get the knife, get the vase.", "did(self,and(get(p1),get(k1),get(v1)))"),
+        ("Get the red mug, put it in the sink, then get the plate.", "did(self,and(get(m1),put(m1,s1),get(p1)))"),
+        ("Get the red mug, and, put it in the sink.", "did(self,and(get(m1),put(m1,s1)))"),
+        ("Pepper, get the plate.", "did(self,get(p1))"),
+        ("Please, get the plate.", "did(self,get(p1))"),
+        (
+            "Get the red mug and put it in the sink and get it and put it on the plate and get it and put it in the \
+             sink and get it and put it on the plate.",
+            "did(self,and(get(m1),put(m1,s1),get(m1),put(m1,p1),get(m1),put(m1,s1),get(m1),put(m1,p1)))",
+        ),
+    ] {
+        let d = decide(text, &n);
+        assert_eq!(goal(&d).as_deref(), Some(expected), "{text}: {}", d.utterance);
+    }
+    // Cut short, or a step that is no directive: said back, nothing done.
+    for (text, said) in [
+        ("Get the mug and then.", "I did not understand \"then\"."),
+        ("Get the mug and.", "I did not understand \"and\"."),
+        ("Get the red mug and tell me a joke.", "I did not understand \"tell me a joke\"."),
+        ("Get the red mug and get it back.", "I do not understand \"back\" in \"it back\"."),
+    ] {
+        let d = decide(text, &n);
+        assert!(d.goal.is_none(), "{text}");
+        assert_eq!(d.utterance, said, "{text}");
+    }
+}

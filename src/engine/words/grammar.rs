@@ -630,6 +630,10 @@ fn unplaced(body: &[String], lexicon: &Lexicon) -> Option<String> {
             return Some(body[end..].join(" "));
         }
     }
+    // "it back": a pronoun with words after it that place nothing.
+    if body.len() > 1 && PRONOUNS.contains(&body[0].as_str()) {
+        return Some(body[1..].join(" "));
+    }
     let plural_of_known = |w: &String| {
         (w.strip_suffix("es").into_iter().chain(w.strip_suffix('s')))
             .any(|stem| !stem.is_empty() && lexicon.head_noun(&[stem.to_owned()]).is_some())

@@ -109,6 +109,10 @@ fn opens_clause(words: &[String], at: usize, lexicon: &Lexicon) -> bool {
     let Some(word) = words.get(at) else {
         return false;
     };
+    // "and, put it …": a comma after the connective changes nothing.
+    if word == COMMA {
+        return opens_clause(words, at + 1, lexicon);
+    }
     if OPENERS.contains(&word.as_str()) || manner_at(words, at).is_some() || verb_at(words, at, lexicon).is_some() {
         // "and then", "and please put …" open a clause; "and now the plate" is still a list.
         return manner_at(words, at).is_none_or(|_| {
@@ -116,9 +120,10 @@ fn opens_clause(words: &[String], at: usize, lexicon: &Lexicon) -> bool {
             opens_clause(words, after, lexicon) || words.get(after).is_none_or(|w| w == COMMA)
         });
     }
-    let next_opens_reference = words
-        .get(at + 1)
-        .is_some_and(|w| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str()));
+    // An unknown verb before a reference, or before "me" and a reference ("tell me a joke").
+    let opens_reference = |w: &String| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str());
+    let beneficiary = words.get(at + 1).is_some_and(|w| w == "me" || w == "us");
+    let next_opens_reference = words.get(at + 1 + usize::from(beneficiary)).is_some_and(opens_reference);
     next_opens_reference
         && !DETERMINERS.contains(&word.as_str())
         && !PRONOUNS.contains(&word.as_str())
@@ -139,6 +144,9 @@ pub(super) fn split_clauses(words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<St
         }
         clauses.push(std::mem::take(current));
     };
+    // A connective with nothing after it ("Get the mug and then."): the human was cut short.
+    let last = words.iter().rev().find(|w| *w != COMMA).map(String::as_str);
+    let dangling = matches!(last, Some("and" | "then")).then(|| last.unwrap_or_default().to_owned());
     while i < words.len() {
         let word = words[i].as_str();
         let starts = current.iter().all(|w| w == COMMA);
@@ -178,6 +186,16 @@ pub(super) fn split_clauses(words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<St
             }
             continue;
         }
+        // "Get the plate, get the knife": a comma before a verb, after a clause that has one.
+        if !starts
+            && word == COMMA
+            && verb_at(&words, i + 1, lexicon).is_some()
+            && (0..current.len()).any(|k| verb_at(&current, k, lexicon).is_some())
+        {
+            boundary(&mut current, &mut clauses);
+            i += 1;
+            continue;
+        }
         if !(starts && word == COMMA) {
             current.push(words[i].clone());
         }
@@ -185,6 +203,12 @@ pub(super) fn split_clauses(words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<St
     }
     if !current.is_empty() || clauses.is_empty() {
         boundary(&mut current, &mut clauses);
+    }
+    // What was cut short is said back as not understood, never acted on in part.
+    if let Some(connective) = dangling
+        && words.len() > 1
+    {
+        clauses.push(vec![connective]);
     }
     clauses
 }
