@@ -1,5 +1,6 @@
 //! Engine benchmarks: the paper's "Get the vase." (structured and in words, and with 100 soft
-//! norms beside the paper's), reading the paper's sentence against the office, readings ×
+//! norms beside the paper's), reading the paper's sentence against the office, tasks of
+//! several steps (reading five, deciding two against one), readings ×
 //! objects × norms, checking a request's scene, and the cost of one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
 //!
 //! The scene is built once per benchmark and reused, as the engine sees one per request: its
@@ -172,6 +173,45 @@ fn bench_paper(c: &mut Criterion) {
     });
 }
 
+/// Several steps in one directive: reading five steps against the paper's lab, and deciding a
+/// task of two steps against the one step it starts with, both from words, in a kitchen.
+fn bench_tasks(c: &mut Criterion) {
+    let demo = paper();
+    let norms = compile(demo["norms"].as_array().unwrap());
+    let library = Library::default_library();
+    let lab = input(json!({"directive": {"action": "get", "arguments": []}, "scene": demo["scenes"]["lab"]}));
+    let five = "Get the mug and put it on the red notebook, then get the plastic vase and put it on the green \
+                notebook and then point to the mug.";
+    let read = scruple::engine::words::understand(five, &lab.scene, &library, &[], &|| false);
+    assert!(
+        matches!(&read, scruple::engine::words::Understanding::Directive { directive: scruple::engine::request::Directive::Task(t), .. } if t.steps.len() == 5),
+        "{read:?}"
+    );
+    c.bench_function("words/five_steps_over_the_lab", |b| {
+        b.iter(|| scruple::engine::words::understand(black_box(five), &lab.scene, &library, &[], &|| false))
+    });
+    let kitchen = json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": [
+        {"id": "m1", "type": "mug", "attributes": {"color": "red"}, "position": [0.5, 0.1, 0.8]},
+        {"id": "m2", "type": "mug", "attributes": {"color": "blue"}, "position": [0.5, 0.3, 0.8]},
+        {"id": "s1", "type": "sink", "position": [0.6, -0.2, 0.8]},
+        {"id": "p1", "type": "plate", "position": [0.5, -0.3, 0.8]}]});
+    for (name, text) in [
+        ("tasks/get_the_red_mug", "Get the red mug."),
+        ("tasks/get_the_red_mug_and_put_it_in_the_sink", "Get the red mug and put it in the sink."),
+    ] {
+        let request = input(json!({"directive": {"text": text}, "scene": kitchen}));
+        // The reading of the words alone, for where the time of each goes.
+        c.bench_function(&name.replace("tasks/", "tasks/read/"), |b| {
+            b.iter(|| scruple::engine::words::understand(black_box(text), &request.scene, &library, &[], &|| false))
+        });
+        let decided = clarify(&request.request, &request.scene, &norms, &library, &|| false).unwrap();
+        assert!(decided.goal.is_some(), "{text}: {}", decided.utterance);
+        c.bench_function(name, |b| {
+            b.iter(|| clarify(black_box(&request.request), &request.scene, &norms, &library, &|| false).unwrap())
+        });
+    }
+}
+
 fn bench_readings(c: &mut Criterion) {
     let norms = compile(&hundred_norms());
     let library = Library::default_library();
@@ -252,5 +292,12 @@ fn bench_world_copy(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_paper, bench_readings, bench_checking, bench_world_copy);
+criterion_group!(
+    benches,
+    bench_paper,
+    bench_tasks,
+    bench_readings,
+    bench_checking,
+    bench_world_copy
+);
 criterion_main!(benches);

@@ -148,6 +148,49 @@ fn clarify_and_replay_read_the_humans_words_as_the_server_does() {
 }
 
 #[test]
+fn clarify_and_replay_decide_tasks_in_words_and_structured() {
+    let demo = demo();
+    let dir = TempDir::new().unwrap();
+    let norms = paper_norms(dir.path(), &demo);
+    let lab = &demo["scenes"]["lab"];
+    let words = json!({"directive": {"text": "Get the mug and put it on the red notebook."}, "scene": lab});
+    let steps = json!({"directive": {"steps": [
+        {"action": "get", "arguments": [{"type": "mug"}]},
+        {"action": "put", "arguments": [{"step": 0, "argument": 0}, {"type": "notebook", "attributes": {"color": "red"}}]}]},
+        "scene": lab});
+    for body in [&words, &steps] {
+        let request = write(dir.path(), "task.json", &body.to_string());
+        let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let answer: Value = serde_json::from_str(&stdout(&output)).unwrap();
+        assert_eq!(answer["goal"], "did(self,and(get(object5),put(object5,object1)))", "{answer}");
+    }
+    let purpose = json!({"directive": {"text": "Grab the mug to smash the red notebook."}, "scene": lab});
+    let lines = [json!({"id": "words", "request": words}), json!({"id": "steps", "request": steps}),
+                 json!({"id": "purpose", "request": purpose})]
+        .map(|l| l.to_string())
+        .join("\n");
+    let file = write(dir.path(), "tasks.jsonl", &lines);
+    let out = dir.path().join("answers.jsonl");
+    let output = scruple(&["replay", s(&file), "--norms", s(&norms), "--out", s(&out)]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let answers: Vec<Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers[0]["decision"]["decision"], "comply");
+    assert_eq!(answers[1]["decision"]["decision"], "comply");
+    assert_eq!(answers[2]["decision"]["decision"], "refuse");
+    // A structured task's fault names its field, as the server's 422 does.
+    let bad = json!({"directive": {"steps": [{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]}, "scene": lab});
+    let request = write(dir.path(), "bad.json", &bad.to_string());
+    let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("/directive/steps/0/arguments/0/step"), "{}", stderr(&output));
+}
+
+#[test]
 fn clarify_without_norms_asks_about_both_vases() {
     let demo = demo();
     let dir = TempDir::new().unwrap();

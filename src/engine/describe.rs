@@ -364,33 +364,44 @@ impl<'a> Describer<'a> {
             .unwrap_or_else(|| "and".to_owned())
     }
 
-    /// One step of a task in words: its verb spoken, its arguments joined by `joiner` (the
-    /// verb's own when `None`), an object already in `named` spoken "it".
-    pub fn step_in_task(&mut self, step: &Term, joiner: Option<&str>, named: &[Term]) -> String {
-        let arguments = self.arguments_in_task(step, joiner, named);
-        reading_with(step, &arguments)
+    /// One step of a task in words, appended to `out`: its verb spoken, its arguments joined by
+    /// `joiner` (the verb's own when `None`), an object already in `named` spoken "it".
+    pub fn step_in_task_onto(&mut self, step: &Term, joiner: Option<&str>, named: &[Term], out: &mut String) {
+        let Some(name) = step.name() else {
+            out.push_str(&step.to_string());
+            return;
+        };
+        spoken_onto(name, out);
+        if step.arity() > 0 {
+            out.push(' ');
+        }
+        self.arguments_in_task_onto(step, joiner, named, out);
     }
 
-    /// The arguments of [`Describer::step_in_task`], without the verb.
+    /// The arguments of [`Describer::step_in_task_onto`], without the verb.
     pub fn arguments_in_task(&mut self, step: &Term, joiner: Option<&str>, named: &[Term]) -> String {
+        let mut out = String::new();
+        self.arguments_in_task_onto(step, joiner, named, &mut out);
+        out
+    }
+
+    fn arguments_in_task_onto(&mut self, step: &Term, joiner: Option<&str>, named: &[Term], out: &mut String) {
         let library = self.library;
         let joiner = joiner
             .or_else(|| library.lookup(step).and_then(|def| def.joiner.as_deref()))
             .unwrap_or("and");
-        let mut arguments = String::new();
         for (i, arg) in step.args().iter().enumerate() {
             if i > 0 {
-                arguments.push(' ');
-                arguments.push_str(joiner);
-                arguments.push(' ');
+                out.push(' ');
+                out.push_str(joiner);
+                out.push(' ');
             }
             if named.contains(arg) || step.args()[..i].contains(arg) {
-                arguments.push_str("it");
+                out.push_str("it");
             } else {
-                self.argument_into(arg, &mut arguments);
+                self.argument_into(arg, out);
             }
         }
-        arguments
     }
 
     /// The reading of an action: its verb spoken, then its arguments ("put the blue cup on the plate").
@@ -411,7 +422,7 @@ pub fn reading_with(action: &Term, arguments: &str) -> String {
     let Some(name) = action.name() else {
         return action.to_string();
     };
-    // A task's words are its steps' readings already ([`Describer::step_in_task`]).
+    // A task's words are its steps' readings already ([`Describer::step_in_task_onto`]).
     if is_task(action) {
         return arguments.to_owned();
     }

@@ -16,6 +16,13 @@ use super::simulate::{Env, Outcome, Reason, did, purpose_reasons, simulate_from}
 use super::term::{Sym, Term};
 use super::world::World;
 
+/// `and`, the functor of a task's action: made once, for the process.
+static AND: std::sync::LazyLock<Sym> = std::sync::LazyLock::new(|| {
+    let and = Sym::new("and");
+    and.make_lasting();
+    and
+});
+
 /// Most steps one directive may hold.
 pub const MAX_STEPS: usize = 8;
 /// A purpose's objects are checked combination by combination; the deadline is asked between
@@ -178,10 +185,14 @@ impl Shape {
     /// A reading's action from its slots' values: the step's action for one step, else
     /// `and(A1,A2,…)`, the steps' actions in order.
     pub(super) fn action(&self, values: &[Term]) -> Term {
-        let step = |(verb, slots): &(Sym, Vec<usize>)| Term::compound(verb, slots.iter().map(|&s| values[s].clone()).collect());
+        // The verbs' symbols as they are: a reading is built without looking a name up.
+        let step = |(verb, slots): &(Sym, Vec<usize>)| match slots.is_empty() {
+            true => Term::Const(verb.clone()),
+            false => Term::Compound(verb.clone(), slots.iter().map(|&s| values[s].clone()).collect()),
+        };
         match self.steps.as_slice() {
             [one] => step(one),
-            steps => Term::compound("and", steps.iter().map(step).collect()),
+            steps => Term::Compound(AND.clone(), steps.iter().map(step).collect()),
         }
     }
 
@@ -207,7 +218,7 @@ impl Shape {
             if i > 0 {
                 out.push_str(" and ");
             }
-            out.push_str(&describer.step_in_task(step, self.joiners[i].as_deref(), &named));
+            describer.step_in_task_onto(step, self.joiners[i].as_deref(), &named, &mut out);
             named.extend(step.args().iter().cloned());
         }
         out

@@ -389,3 +389,40 @@ fn what_a_hostile_pass_found() {
         assert_eq!(d.utterance, said, "{text}");
     }
 }
+
+#[test]
+fn the_deadline_and_the_cap_apply_to_the_task_as_a_whole() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let library = crate::engine::action::Library::default_library();
+    let request = words("Get the mug and put it in the sink and get the plate.");
+    // The deadline may fall anywhere, while the words are read or any step is simulated: what
+    // was cut short is never acted on, and a task is never done in part.
+    let mut cut = 0;
+    for after in 0..60 {
+        let calls = AtomicUsize::new(0);
+        let expired = || calls.fetch_add(1, Ordering::Relaxed) >= after;
+        let d = crate::engine::clarify::clarify(&request, &kitchen(), &none(), &library, &expired).unwrap();
+        if d.limits.is_some() || d.kind == DecisionKind::NotUnderstood {
+            cut += 1;
+            assert!(d.goal.is_none(), "after {after}: {}", d.utterance);
+            assert!(
+                !matches!(d.kind, DecisionKind::Comply | DecisionKind::Assume | DecisionKind::Confirm),
+                "after {after}: {}",
+                d.utterance
+            );
+            // A question may name the whole tasks simulated to the end, and only those.
+            for offered in &d.offered {
+                let reading = d.interpretations.iter().find(|i| &i.action == offered).expect("a reading");
+                assert!(reading.acceptable() && !reading.outcome.unfinished(), "after {after}: {offered}");
+            }
+        }
+    }
+    assert!(cut > 0, "the deadline never fell");
+    // More readings than the cap: nothing simulated, the ambiguous words named.
+    let mut capped = words("Get the mug and put it in the sink and get the mug.");
+    capped.options.max_readings = 3;
+    let d = run(&capped, &kitchen(), &none());
+    assert!(d.goal.is_none() && d.interpretations.is_empty());
+    assert_eq!(d.limits.map(|l| l.readings), Some(4));
+    assert_eq!(d.utterance, "I do not know which mug and which other mug you mean.");
+}

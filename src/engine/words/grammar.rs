@@ -18,6 +18,8 @@
 //! that narrows a reference, a negation, another step or a purpose is read or the words are
 //! not understood.
 
+use std::borrow::Cow;
+
 use super::lexicon::{Lexicon, Noun, inflects};
 pub(super) use super::vocabulary::{DETERMINERS, FUNCTION_WORDS, NEGATIONS, PRONOUNS};
 use super::vocabulary::{MANNER, QUESTION_WORDS, STEP_WORDS, STRUCTURE};
@@ -222,7 +224,13 @@ fn clause(
     }
     narrowings.reverse();
     // The rest keeps its commas, as words of their own: they part the items of a list.
-    let mut words: Vec<String> = segments.join(&COMMA.to_owned());
+    let mut words: Vec<String> = Vec::with_capacity(segments.iter().map(|s| s.len() + 1).sum());
+    for (n, segment) in segments.into_iter().enumerate() {
+        if n > 0 {
+            words.push(COMMA.to_owned());
+        }
+        words.extend(segment);
+    }
     if words.iter().all(|w| w == COMMA) {
         return unclear(Unclear::Empty, String::new());
     }
@@ -331,6 +339,7 @@ fn clause(
     // ignored. A negated one is not understood.
     let mut purposes = Vec::new();
     let plain = without_commas(&rest);
+    let plain: &[String] = &plain;
     // Every purpose said, each up to the next ("… for reheating so I can smash it" is two).
     let mut starts: Vec<(usize, usize)> = Vec::new();
     let mut from = 0;
@@ -374,14 +383,14 @@ fn clause(
             0,
             Narrowing {
                 keep: false,
-                words: without_commas(&rest[at + 1..]),
+                words: without_commas(&rest[at + 1..]).into_owned(),
             },
         );
         rest.truncate(at);
     }
     // The joiner the human said between two arguments: spoken back, and its relation made true.
     let mut said_joiner = None;
-    let spans: Vec<Vec<String>> = if arity == 0 {
+    let spans: Vec<Cow<'_, [String]>> = if arity == 0 {
         // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
         if !rest.is_empty() || !narrowings.is_empty() {
             return unclear(Unclear::Unplaced, said(&words));
@@ -393,13 +402,13 @@ fn clause(
         match (1..rest.len()).find(|&i| joiners.contains(&rest[i])) {
             Some(i) if i + 1 < rest.len() => {
                 said_joiner = Some(rest[i].clone());
-                vec![rest[..i].to_vec(), without_commas(&rest[i + 1..])]
+                vec![Cow::Borrowed(&rest[..i]), without_commas(&rest[i + 1..])]
             }
             // Two arguments and no joiner between them: the words do not say which is which.
             _ => return unclear(Unclear::Unplaced, said(&words)),
         }
     } else {
-        vec![rest.clone()]
+        vec![Cow::Borrowed(&rest[..])]
     };
     // "Get the mug and the plate": a list as the first argument is one step for each item,
     // each with the same other arguments.

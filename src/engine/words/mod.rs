@@ -106,7 +106,7 @@ impl Parse {
                 .map(|o| o.id.to_string())
                 .collect()
         };
-        let references = (self.references.iter())
+        let references: Vec<ReferenceParse> = (self.references.iter())
             .map(|p| ReferenceParse {
                 words: p.words.clone(),
                 candidates: candidates(&p.reference),
@@ -168,17 +168,27 @@ impl Parse {
                 })
                 .collect()
         };
-        understood.steps = (self.steps.iter().zip(actions))
-            .map(|(step, form)| StepUnderstood {
+        // Each argument's candidates: its own reference's, found once above (the references are
+        // the unbound arguments in order), or those of the argument it is bound to.
+        let mut own = understood.references.iter();
+        let mut found: Vec<Vec<Vec<String>>> = Vec::with_capacity(self.steps.len());
+        for step in &self.steps {
+            let lists = (step.arguments.iter())
+                .map(|a| match a.bound {
+                    Some((s, j)) => found[s][j].clone(),
+                    None => own.next().map(|r| r.candidates.clone()).unwrap_or_default(),
+                })
+                .collect();
+            found.push(lists);
+        }
+        understood.steps = (self.steps.iter().zip(actions).zip(found))
+            .map(|((step, form), lists)| StepUnderstood {
                 act: step.act,
                 form,
-                references: (step.arguments.iter())
-                    .map(|a| ReferenceParse {
+                references: (step.arguments.iter().zip(lists))
+                    .map(|(a, candidates)| ReferenceParse {
                         words: a.phrase.words.clone(),
-                        candidates: match a.bound {
-                            Some((s, j)) => candidates(&self.steps[s].arguments[j].phrase.reference),
-                            None => candidates(&a.phrase.reference),
-                        },
+                        candidates,
                     })
                     .collect(),
                 pronouns: pronouns(&step.arguments),

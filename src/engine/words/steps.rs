@@ -8,6 +8,8 @@
 //! clause's inside (`grammar` does), or leave a clause out: every clause is a step or the
 //! words are not understood.
 
+use std::borrow::Cow;
+
 use super::grammar::{DETERMINERS, PRONOUNS, manner_at, reference, reference_or_adjectives, verb_at};
 use super::lexicon::Lexicon;
 use super::purpose::PurposeClause;
@@ -72,30 +74,29 @@ pub(super) fn comma_segments(words: Vec<String>) -> Vec<Vec<String>> {
     out
 }
 
-pub(super) fn without_commas(words: &[String]) -> Vec<String> {
-    words.iter().filter(|w| *w != COMMA).cloned().collect()
+/// `words` without its commas, borrowed when it has none.
+pub(super) fn without_commas(words: &[String]) -> Cow<'_, [String]> {
+    match words.iter().any(|w| w == COMMA) {
+        true => Cow::Owned(words.iter().filter(|w| *w != COMMA).cloned().collect()),
+        false => Cow::Borrowed(words),
+    }
 }
 
 /// The items of a list: "the mug, the plate and the cup" is three; "the mug or the cup" is one
 /// item whose alternatives `reference` reads ("or" takes the commas as its own).
-pub(super) fn listed(span: &[String]) -> Vec<Vec<String>> {
+pub(super) fn listed(span: &[String]) -> Vec<Cow<'_, [String]>> {
     if span.iter().any(|w| w == "and") {
-        let mut items: Vec<Vec<String>> = vec![Vec::new()];
-        for word in span {
-            match word == "and" || word == COMMA {
-                true => items.push(Vec::new()),
-                false => items.last_mut().expect("never empty").push(word.clone()),
-            }
-        }
+        let items: Vec<&[String]> = span.split(|w| w == "and" || w == COMMA).collect();
         // "the mug and and the cup" is not a list of two: an empty item names nothing.
         let last = items.len() - 1;
         return (items.into_iter().enumerate())
             .filter(|(i, item)| !item.is_empty() || *i == last)
-            .map(|(_, item)| item)
+            .map(|(_, item)| Cow::Borrowed(item))
             .collect();
     }
     if span.iter().any(|w| w == "or") {
-        return vec![span.iter().map(|w| if w == COMMA { "or".to_owned() } else { w.clone() }).collect()];
+        let either = span.iter().map(|w| if w == COMMA { "or".to_owned() } else { w.clone() }).collect();
+        return vec![Cow::Owned(either)];
     }
     vec![without_commas(span)]
 }
@@ -134,7 +135,7 @@ fn opens_clause(words: &[String], at: usize, lexicon: &Lexicon) -> bool {
 /// Splits a sentence's words (commas as words) into clauses at "and" before a new clause,
 /// "then", "and then", ", then", "after that"; a leading "first" is the order said, not a word
 /// of the clause. The clause's commas stay.
-pub(super) fn split_clauses(words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<String>> {
+pub(super) fn split_clauses(mut words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<String>> {
     let mut clauses: Vec<Vec<String>> = Vec::new();
     let mut current: Vec<String> = Vec::new();
     let mut i = 0;
@@ -197,7 +198,8 @@ pub(super) fn split_clauses(words: Vec<String>, lexicon: &Lexicon) -> Vec<Vec<St
             continue;
         }
         if !(starts && word == COMMA) {
-            current.push(words[i].clone());
+            // Taken, not copied: only the words ahead are looked at again.
+            current.push(std::mem::take(&mut words[i]));
         }
         i += 1;
     }
