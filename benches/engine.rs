@@ -197,7 +197,10 @@ fn bench_tasks(c: &mut Criterion) {
         {"id": "p1", "type": "plate", "position": [0.5, -0.3, 0.8]}]});
     for (name, text) in [
         ("tasks/get_the_red_mug", "Get the red mug."),
-        ("tasks/get_the_red_mug_and_put_it_in_the_sink", "Get the red mug and put it in the sink."),
+        (
+            "tasks/get_the_red_mug_and_put_it_in_the_sink",
+            "Get the red mug and put it in the sink.",
+        ),
     ] {
         let request = input(json!({"directive": {"text": text}, "scene": kitchen}));
         // The reading of the words alone, for where the time of each goes.

@@ -163,13 +163,19 @@ fn clarify_and_replay_decide_tasks_in_words_and_structured() {
         let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
         assert!(output.status.success(), "{}", stderr(&output));
         let answer: Value = serde_json::from_str(&stdout(&output)).unwrap();
-        assert_eq!(answer["goal"], "did(self,and(get(object5),put(object5,object1)))", "{answer}");
+        assert_eq!(
+            answer["goal"], "did(self,and(get(object5),put(object5,object1)))",
+            "{answer}"
+        );
     }
     let purpose = json!({"directive": {"text": "Grab the mug to smash the red notebook."}, "scene": lab});
-    let lines = [json!({"id": "words", "request": words}), json!({"id": "steps", "request": steps}),
-                 json!({"id": "purpose", "request": purpose})]
-        .map(|l| l.to_string())
-        .join("\n");
+    let lines = [
+        json!({"id": "words", "request": words}),
+        json!({"id": "steps", "request": steps}),
+        json!({"id": "purpose", "request": purpose}),
+    ]
+    .map(|l| l.to_string())
+    .join("\n");
     let file = write(dir.path(), "tasks.jsonl", &lines);
     let out = dir.path().join("answers.jsonl");
     let output = scruple(&["replay", s(&file), "--norms", s(&norms), "--out", s(&out)]);
@@ -183,11 +189,16 @@ fn clarify_and_replay_decide_tasks_in_words_and_structured() {
     assert_eq!(answers[1]["decision"]["decision"], "comply");
     assert_eq!(answers[2]["decision"]["decision"], "refuse");
     // A structured task's fault names its field, as the server's 422 does.
-    let bad = json!({"directive": {"steps": [{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]}, "scene": lab});
+    let bad =
+        json!({"directive": {"steps": [{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]}, "scene": lab});
     let request = write(dir.path(), "bad.json", &bad.to_string());
     let output = scruple(&["clarify", s(&request), "--norms", s(&norms)]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(stderr(&output).contains("/directive/steps/0/arguments/0/step"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("/directive/steps/0/arguments/0/step"),
+        "{}",
+        stderr(&output)
+    );
 }
 
 #[test]

@@ -412,7 +412,9 @@ impl<'a> Describer<'a> {
 
 /// Whether `action` is a task of several steps, `and(A1,A2,…)`, rather than one verb's action.
 pub fn is_task(action: &Term) -> bool {
-    action.name().is_some_and(|n| &**n == "and") && action.arity() >= 2 && action.args().iter().all(|a| a.name().is_some())
+    action.name().is_some_and(|n| &**n == "and")
+        && action.arity() >= 2
+        && action.args().iter().all(|a| a.name().is_some())
 }
 
 /// The reading of an action whose arguments are already in words (its

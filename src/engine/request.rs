@@ -564,17 +564,27 @@ fn task_of(steps: Vec<StepInput>, scene: &Scene) -> Result<Task, Invalid> {
                     let Some(k) = usize::try_from(k).ok().filter(|&k| k < count) else {
                         return Err(Invalid::new(
                             format!("{field}/argument"),
-                            format!("step {target} has {count} argument{}", if count == 1 { "" } else { "s" }),
+                            format!(
+                                "step {target} has {count} argument{}",
+                                if count == 1 { "" } else { "s" }
+                            ),
                         ));
                     };
-                    Argument::Earlier { step: target, argument: k }
+                    Argument::Earlier {
+                        step: target,
+                        argument: k,
+                    }
                 }
                 (Some(_), None) => return Err(Invalid::new(format!("{field}/argument"), "`step` needs `argument`")),
                 (None, Some(_)) => return Err(Invalid::new(format!("{field}/step"), "`argument` needs `step`")),
             });
         }
         let joiner = step.joiner.map(joiner_word).transpose().map_err(|e| e.within(&at))?;
-        out.push(Step { verb, arguments, joiner });
+        out.push(Step {
+            verb,
+            arguments,
+            joiner,
+        });
     }
     Ok(Task {
         steps: out,

@@ -68,7 +68,10 @@ pub enum Reference {
     /// "the mug or the cup": any one object any of `options` matches will do, as with an
     /// indefinite. An option whose words name nothing here makes the whole match nothing:
     /// the human may have meant just that one.
-    Either { options: Vec<Reference>, words: String },
+    Either {
+        options: Vec<Reference>,
+        words: String,
+    },
 }
 
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
@@ -219,7 +222,11 @@ impl Reference {
             Reference::Narrowed { base, .. } => base.noun(),
             Reference::Either { options, .. } => {
                 let nouns: Vec<Option<String>> = options.iter().map(Reference::noun).collect();
-                nouns.windows(2).all(|w| w[0] == w[1]).then(|| nouns[0].clone()).flatten()
+                nouns
+                    .windows(2)
+                    .all(|w| w[0] == w[1])
+                    .then(|| nouns[0].clone())
+                    .flatten()
             }
             _ => None,
         }

@@ -317,7 +317,11 @@ pub fn reason_words(reason: &Reason, style: Style, describer: &mut Describer<'_>
 /// `I cannot {reading} because {reason}` (diarc).
 fn diarc_cannot(i: &Interpretation, describer: &mut Describer<'_>) -> String {
     let reason = hard(i);
-    format!("I cannot {} because {}", refused(i, &reason, describer), diarc_reason(&reason, describer))
+    format!(
+        "I cannot {} because {}",
+        refused(i, &reason, describer),
+        diarc_reason(&reason, describer)
+    )
 }
 
 /// A reading turned down for `reason`, in words: with the purpose the human gave when it is
@@ -339,7 +343,11 @@ fn refused(i: &Interpretation, reason: &Reason, describer: &mut Describer<'_>) -
                 });
             }
             let joiner = describer.joiner_of(purpose);
-            format!("{} to {}", reading(i), reading_with(purpose, &words.join(&format!(" {joiner} "))))
+            format!(
+                "{} to {}",
+                reading(i),
+                reading_with(purpose, &words.join(&format!(" {joiner} ")))
+            )
         }
         _ => reading(i),
     }
@@ -537,10 +545,7 @@ fn not_understood(why: Unclear, words: &str) -> String {
         Unclear::Negated => {
             "I understood what you do not want me to do; tell me what you would like me to do.".to_owned()
         }
-        Unclear::Several => format!(
-            "Please ask me for at most {} things at a time.",
-            super::task::MAX_STEPS
-        ),
+        Unclear::Several => format!("Please ask me for at most {} things at a time.", super::task::MAX_STEPS),
         Unclear::Unplaced => format!("I did not understand \"{words}\"."),
         Unclear::Unasked => format!("I did not ask anything that \"{words}\" answers."),
         Unclear::Deadline => "I ran out of time before I understood that.".to_owned(),

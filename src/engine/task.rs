@@ -35,7 +35,10 @@ pub enum Argument {
     Reference(Reference),
     /// The object of argument `argument` of step `step` (both from 0), an earlier step: "it"
     /// in "get the mug and put it in the sink" is step 0's argument 0.
-    Earlier { step: usize, argument: usize },
+    Earlier {
+        step: usize,
+        argument: usize,
+    },
 }
 
 /// One step: a verb and its arguments, and the joiner said between two of them.
@@ -89,9 +92,7 @@ impl Task {
             Argument::Earlier { step, argument } => steps[*step].1[*argument],
         };
         for step in &self.steps {
-            let arguments = (step.arguments.iter())
-                .map(|a| place(a, &steps, &mut slots))
-                .collect();
+            let arguments = (step.arguments.iter()).map(|a| place(a, &steps, &mut slots)).collect();
             steps.push((Sym::from(step.verb.as_str()), arguments));
         }
         // A purpose's own references are not slots: no reading binds them, and a purpose is
@@ -274,7 +275,10 @@ impl PurposeShape {
                 return false;
             }
             n += 1;
-            let purpose = Term::compound(&self.verb, choice.iter().zip(&lists).map(|(&i, l)| l[i].clone()).collect());
+            let purpose = Term::compound(
+                &self.verb,
+                choice.iter().zip(&lists).map(|(&i, l)| l[i].clone()).collect(),
+            );
             for reason in purpose_reasons(env, world, &purpose, &self.said) {
                 outcome.push(reason);
             }

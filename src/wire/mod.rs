@@ -19,8 +19,8 @@ use crate::error::Error;
 pub use check::{CheckBody, CheckDto, CheckOptionsBody, StepCheckDto};
 pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
-    ObjectBody, OptionsBody, ParseDto, ReasonDto, ReferenceBody, ReferenceParseDto, Scalar, SceneBody, ShapeBody,
-    PronounParseDto, PurposeParseDto, StepArgumentBody, StepBody, StepParseDto,
+    ObjectBody, OptionsBody, ParseDto, PronounParseDto, PurposeParseDto, ReasonDto, ReferenceBody, ReferenceParseDto,
+    Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
 };
 pub use norms::{
     AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto, NormSetImportSchema, NormSetObject,

@@ -247,7 +247,8 @@ pub(crate) fn as_rest_json(r: pb::ClarifyResponse) -> Value {
                     if !s.pronouns.is_empty() {
                         let pronouns: Vec<Value> = (s.pronouns.into_iter())
                             .map(|b| {
-                                let mut bound = json!({"words": b.words, "argument": b.argument, "bound_to": b.bound_to});
+                                let mut bound =
+                                    json!({"words": b.words, "argument": b.argument, "bound_to": b.bound_to});
                                 if let Some(step) = b.step {
                                     bound["step"] = json!(step);
                                 }

@@ -26,8 +26,8 @@ mod paper_demo;
 mod playground;
 mod replicas;
 mod soft;
-mod tasks;
 #[path = "../support/mod.rs"]
 mod support;
+mod tasks;
 mod tls;
 mod words;

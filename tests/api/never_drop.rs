@@ -64,8 +64,13 @@ async fn a_purpose_or_a_step_that_could_be_forbidden_is_never_obeyed() {
         assert_eq!(answer["decision"], decision, "{text}: {answer}");
         assert!(answer["goal"].is_null());
     }
-    let answer = app.clarify(&said("Grab the mug to smash the vase.", red_things())).await;
-    assert_eq!(answer["utterance"], "I cannot get the mug to destroy the vase because destroy is forbidden action.");
+    let answer = app
+        .clarify(&said("Grab the mug to smash the vase.", red_things()))
+        .await;
+    assert_eq!(
+        answer["utterance"],
+        "I cannot get the mug to destroy the vase because destroy is forbidden action."
+    );
     assert_eq!(answer["interpretations"][0]["reasons"][0]["kind"], "forbidden_purpose");
     assert_eq!(answer["parse"]["purposes"][0]["words"], "to smash the vase");
     assert_eq!(answer["parse"]["purposes"][0]["form"], "destroy(Y)");

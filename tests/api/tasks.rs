@@ -53,7 +53,10 @@ async fn a_task_in_words_asks_about_whole_tasks_and_shows_each_step() {
     assert_eq!(parse["form"], "want(human,did(self,and(get(X),put(X,Y))))");
     assert_eq!(parse["steps"][0]["form"], "get(X)");
     assert_eq!(parse["steps"][1]["form"], "put(X,Y)");
-    assert_eq!(parse["steps"][1]["references"][0], json!({"words": "it", "candidates": ["m1", "m2"]}));
+    assert_eq!(
+        parse["steps"][1]["references"][0],
+        json!({"words": "it", "candidates": ["m1", "m2"]})
+    );
     assert_eq!(
         parse["steps"][1]["pronouns"],
         json!([{"words": "it", "argument": 0, "bound_to": "step", "step": 0, "step_argument": 0}])
@@ -81,7 +84,10 @@ async fn a_structured_task_is_the_task_its_words_are() {
     for key in ["decision", "goal", "utterance", "interpretations", "speech_act"] {
         assert_eq!(answer[key], words[key], "{key}");
     }
-    assert!(answer.get("parse").is_none(), "a structured task has no parse: {answer}");
+    assert!(
+        answer.get("parse").is_none(),
+        "a structured task has no parse: {answer}"
+    );
     // One step structured keeps did(self,A).
     let one = app
         .clarify(&structured(json!([{"action": "get", "arguments": [{"id": "p1"}]}])))
@@ -102,9 +108,15 @@ async fn a_forbidden_step_or_purpose_is_refused_whole() {
         assert!(answer["goal"].is_null());
     }
     let answer = app.clarify(&said("Get the plate to smash the vase.")).await;
-    assert_eq!(answer["utterance"], "I cannot get the plate to destroy the vase because destroy is forbidden action.");
+    assert_eq!(
+        answer["utterance"],
+        "I cannot get the plate to destroy the vase because destroy is forbidden action."
+    );
     assert_eq!(answer["interpretations"][0]["reasons"][0]["kind"], "forbidden_purpose");
-    assert_eq!(answer["speech_act"], "cannot(did(self,get(p1)),because(forbiddenPurpose(destroy(v1))))");
+    assert_eq!(
+        answer["speech_act"],
+        "cannot(did(self,get(p1)),because(forbiddenPurpose(destroy(v1))))"
+    );
 }
 
 #[tokio::test]
@@ -125,15 +137,44 @@ async fn every_fault_of_a_structured_task_is_named_by_its_field() {
     let get_mug = json!({"action": "get", "arguments": [{"type": "mug"}]});
     for (steps, field) in [
         (json!([]), "/directive/steps"),
-        (json!([get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug]), "/directive/steps"),
-        (json!([{"action": "Get!", "arguments": []}]), "/directive/steps/0/action"),
-        (json!([{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]), "/directive/steps/0/arguments/0/step"),
-        (json!([get_mug, {"action": "get", "arguments": [{"step": 1, "argument": 0}]}]), "/directive/steps/1/arguments/0/step"),
-        (json!([get_mug, {"action": "get", "arguments": [{"step": 0, "argument": 1}]}]), "/directive/steps/1/arguments/0/argument"),
-        (json!([get_mug, {"action": "get", "arguments": [{"step": 0}]}]), "/directive/steps/1/arguments/0/argument"),
-        (json!([get_mug, {"action": "get", "arguments": [{"step": 0, "argument": 0, "type": "mug"}]}]), "/directive/steps/1/arguments/0"),
-        (json!([{"action": "get", "arguments": [{"id": "nope"}]}]), "/directive/steps/0/arguments/0/id"),
-        (json!([{"action": "put", "arguments": [{"type": "mug"}, {"type": "sink"}], "joiner": "In Side"}]), "/directive/steps/0/joiner"),
+        (
+            json!([
+                get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug, get_mug
+            ]),
+            "/directive/steps",
+        ),
+        (
+            json!([{"action": "Get!", "arguments": []}]),
+            "/directive/steps/0/action",
+        ),
+        (
+            json!([{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]),
+            "/directive/steps/0/arguments/0/step",
+        ),
+        (
+            json!([get_mug, {"action": "get", "arguments": [{"step": 1, "argument": 0}]}]),
+            "/directive/steps/1/arguments/0/step",
+        ),
+        (
+            json!([get_mug, {"action": "get", "arguments": [{"step": 0, "argument": 1}]}]),
+            "/directive/steps/1/arguments/0/argument",
+        ),
+        (
+            json!([get_mug, {"action": "get", "arguments": [{"step": 0}]}]),
+            "/directive/steps/1/arguments/0/argument",
+        ),
+        (
+            json!([get_mug, {"action": "get", "arguments": [{"step": 0, "argument": 0, "type": "mug"}]}]),
+            "/directive/steps/1/arguments/0",
+        ),
+        (
+            json!([{"action": "get", "arguments": [{"id": "nope"}]}]),
+            "/directive/steps/0/arguments/0/id",
+        ),
+        (
+            json!([{"action": "put", "arguments": [{"type": "mug"}, {"type": "sink"}], "joiner": "In Side"}]),
+            "/directive/steps/0/joiner",
+        ),
     ] {
         assert_problem(
             app.post("/v1/clarify", &structured(steps.clone())).await,
@@ -145,7 +186,12 @@ async fn every_fault_of_a_structured_task_is_named_by_its_field() {
     // `steps` beside `action`, or `arguments` beside `steps`.
     let mut both = structured(json!([get_mug]));
     both["directive"]["action"] = json!("get");
-    assert_problem(app.post("/v1/clarify", &both).await, StatusCode::UNPROCESSABLE_ENTITY, Some("/directive")).await;
+    assert_problem(
+        app.post("/v1/clarify", &both).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/directive"),
+    )
+    .await;
     let mut beside = structured(json!([get_mug]));
     beside["directive"]["arguments"] = json!([]);
     assert_problem(
@@ -156,7 +202,12 @@ async fn every_fault_of_a_structured_task_is_named_by_its_field() {
     .await;
     // A joiner the verb does not take.
     let bad = structured(json!([{"action": "put", "arguments": [{"id": "m1"}, {"id": "s1"}], "joiner": "with"}]));
-    assert_problem(app.post("/v1/clarify", &bad).await, StatusCode::UNPROCESSABLE_ENTITY, None).await;
+    assert_problem(
+        app.post("/v1/clarify", &bad).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        None,
+    )
+    .await;
 }
 
 #[tokio::test]
@@ -173,11 +224,20 @@ async fn tasks_give_the_same_answer_over_grpc_as_over_rest() {
             {"action": "put", "arguments": [{"step": 0, "argument": 0}, {"id": "s1"}], "joiner": "in"}])),
     ] {
         let rest = app.clarify(&body).await;
-        let grpc = as_rest_json(clarifier.clarify(clarify_request(&body)).await.expect("gRPC").into_inner());
+        let grpc = as_rest_json(
+            clarifier
+                .clarify(clarify_request(&body))
+                .await
+                .expect("gRPC")
+                .into_inner(),
+        );
         assert_eq!(grpc, rest, "{body}");
     }
     let bad = structured(json!([{"action": "get", "arguments": [{"step": 0, "argument": 0}]}]));
     let status = clarifier.clarify(clarify_request(&bad)).await.unwrap_err();
     assert_eq!(status.code(), tonic::Code::InvalidArgument);
-    assert_eq!(status.metadata().get("field").unwrap(), "/directive/steps/0/arguments/0/step");
+    assert_eq!(
+        status.metadata().get("field").unwrap(),
+        "/directive/steps/0/arguments/0/step"
+    );
 }

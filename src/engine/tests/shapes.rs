@@ -143,7 +143,16 @@ fn arb_words() -> impl Strategy<Value = String> {
 /// Well-formed words of tasks and purposes: a first clause the scene can place, then another
 /// step, a list, an "or", or a purpose.
 fn arb_task_words() -> impl Strategy<Value = String> {
-    let verb = prop::sample::select(vec!["get", "grab", "take", "destroy", "tidy up", "juggle", "I need", "Can I have"]);
+    let verb = prop::sample::select(vec![
+        "get",
+        "grab",
+        "take",
+        "destroy",
+        "tidy up",
+        "juggle",
+        "I need",
+        "Can I have",
+    ]);
     let colour = prop::sample::select(vec!["", "red ", "green ", "blue "]);
     let kind = prop::sample::select(KINDS.to_vec());
     let then = prop::sample::select(vec![
@@ -164,7 +173,11 @@ fn arb_task_words() -> impl Strategy<Value = String> {
 
 fn arb_steps() -> impl Strategy<Value = Vec<(&'static str, usize, bool)>> {
     prop::collection::vec(
-        (prop::sample::select(vec!["get", "destroy", "put", "tidy", "pointTo"]), 0..3usize, any::<bool>()),
+        (
+            prop::sample::select(vec!["get", "destroy", "put", "tidy", "pointTo"]),
+            0..3usize,
+            any::<bool>(),
+        ),
         1..=4,
     )
 }
@@ -369,7 +382,10 @@ impl Case {
                 steps: (steps.iter().enumerate())
                     .map(|(i, &(verb, kind, back))| {
                         let first = match (back, i) {
-                            (true, 1..) => Argument::Earlier { step: i - 1, argument: 0 },
+                            (true, 1..) => Argument::Earlier {
+                                step: i - 1,
+                                argument: 0,
+                            },
                             _ => Argument::Reference(ty(KINDS[kind])),
                         };
                         let mut arguments = vec![first];
@@ -580,7 +596,13 @@ fn check_tasks(
             continue;
         }
         let checked = check_steps(task.args(), scene, norms, library, scope, Style::Diarc, &|| false);
-        prop_assert!(checked.permitted(), "offered {} ({}): {}", action, d.kind.as_str(), checked.utterance);
+        prop_assert!(
+            checked.permitted(),
+            "offered {} ({}): {}",
+            action,
+            d.kind.as_str(),
+            checked.utterance
+        );
     }
     let destroy_forbidden = case.norms.iter().any(|n| {
         n.kind.as_deref() == Some("forbidden_action")
@@ -590,7 +612,11 @@ fn check_tasks(
             && n.exempt_roles.is_none()
             && n.context.is_none()
     });
-    let purposed = |w: &str| ["so I can smash it", "to smash the box", "for smashing the vase"].iter().any(|p| w.contains(p));
+    let purposed = |w: &str| {
+        ["so I can smash it", "to smash the box", "for smashing the vase"]
+            .iter()
+            .any(|p| w.contains(p))
+    };
     // An answer that is a whole new directive ("Get the vase.") is decided afresh, without it.
     let afresh = matches!(&case.answer, Some(Answer::Words(w)) if w.ends_with('.'));
     if destroy_forbidden && !afresh && matches!(&case.directive, Shaped::Words(w) if purposed(w)) {
@@ -650,7 +676,11 @@ fn every_shape_reaches_every_decision_and_reason() {
             continue;
         };
         *decisions.entry(d.kind.as_str()).or_default() += 1;
-        tasks += usize::from(d.interpretations.iter().any(|i| is_task(i.action.args().get(1).unwrap_or(&i.action))));
+        tasks += usize::from(
+            d.interpretations
+                .iter()
+                .any(|i| is_task(i.action.args().get(1).unwrap_or(&i.action))),
+        );
         for r in d.interpretations.iter().flat_map(|i| &i.outcome.reasons) {
             *reasons.entry(r.kind()).or_default() += 1;
         }
@@ -686,5 +716,3 @@ fn every_shape_reaches_every_decision_and_reason() {
     }
     assert!(tasks >= 50, "tasks decided: {tasks}");
 }
-
-

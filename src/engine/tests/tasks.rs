@@ -52,13 +52,37 @@ fn the_constructions_that_make_steps() {
             DecisionKind::Comply,
             "did(self,and(get(m1),put(m1,s1)))",
         ),
-        ("Get the red mug, then put it in the sink.", DecisionKind::Comply, "did(self,and(get(m1),put(m1,s1)))"),
-        ("Get the red mug and then put it in the sink.", DecisionKind::Comply, "did(self,and(get(m1),put(m1,s1)))"),
-        ("Get the red mug. Put it in the sink.", DecisionKind::Comply, "did(self,and(get(m1),put(m1,s1)))"),
-        ("First get the red mug, then put it on the plate.", DecisionKind::Comply, "did(self,and(get(m1),put(m1,p1)))"),
-        ("Get the red mug. After that put it on the plate.", DecisionKind::Comply, "did(self,and(get(m1),put(m1,p1)))"),
+        (
+            "Get the red mug, then put it in the sink.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),put(m1,s1)))",
+        ),
+        (
+            "Get the red mug and then put it in the sink.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),put(m1,s1)))",
+        ),
+        (
+            "Get the red mug. Put it in the sink.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),put(m1,s1)))",
+        ),
+        (
+            "First get the red mug, then put it on the plate.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),put(m1,p1)))",
+        ),
+        (
+            "Get the red mug. After that put it on the plate.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),put(m1,p1)))",
+        ),
         // References listed under one verb: one step each.
-        ("Get the red mug and the plate.", DecisionKind::Comply, "did(self,and(get(m1),get(p1)))"),
+        (
+            "Get the red mug and the plate.",
+            DecisionKind::Comply,
+            "did(self,and(get(m1),get(p1)))",
+        ),
         (
             "Put the red mug and the blue mug in the sink.",
             DecisionKind::Comply,
@@ -70,7 +94,11 @@ fn the_constructions_that_make_steps() {
             "did(self,and(get(m1),get(p1),get(k1)))",
         ),
         // "or" between references: any one will do.
-        ("Get the red mug or the plate.", DecisionKind::Assume, "did(self,get(p1))"),
+        (
+            "Get the red mug or the plate.",
+            DecisionKind::Assume,
+            "did(self,get(p1))",
+        ),
         // Needs are requests to bring.
         ("I need the plate.", DecisionKind::Comply, "did(self,get(p1))"),
         ("Can I have the plate?", DecisionKind::Comply, "did(self,get(p1))"),
@@ -105,7 +133,12 @@ fn what_is_not_read_as_steps() {
     ] {
         let d = decide(text, &none());
         assert_eq!(d.kind, DecisionKind::NotUnderstood, "{text}: {}", d.utterance);
-        assert_eq!(d.parse.as_ref().and_then(|p| p.unclear), Some(why), "{text}: {}", d.utterance);
+        assert_eq!(
+            d.parse.as_ref().and_then(|p| p.unclear),
+            Some(why),
+            "{text}: {}",
+            d.utterance
+        );
         assert!(d.goal.is_none());
     }
     // Exactly eight steps are read.
@@ -138,7 +171,8 @@ fn a_forbidden_step_makes_the_task_impermissible_and_the_other_reading_is_assume
     assert_eq!(d.kind, DecisionKind::Assume, "{}", d.utterance);
     assert_eq!(goal(&d).as_deref(), Some("did(self,and(get(m2),put(m2,s1)))"));
     assert!(
-        d.utterance.starts_with("I am assuming you want me to get the blue mug and put it in the sink."),
+        d.utterance
+            .starts_with("I am assuming you want me to get the blue mug and put it in the sink."),
         "{}",
         d.utterance
     );
@@ -172,7 +206,10 @@ fn a_forbidden_purpose_is_never_obeyed() {
     let mut natural = words("Grab the plate to smash the vase.");
     natural.options.style = crate::engine::decision::Style::Natural;
     let d = run(&natural, &kitchen(), &n);
-    assert_eq!(d.utterance, "I won't get the plate to destroy the vase: destroying things is not allowed.");
+    assert_eq!(
+        d.utterance,
+        "I won't get the plate to destroy the vase: destroying things is not allowed."
+    );
     // Every way of saying a purpose.
     for text in [
         "Get the plate in order to smash the vase.",
@@ -190,7 +227,10 @@ fn a_forbidden_purpose_is_never_obeyed() {
     assert_eq!(goal(&d).as_deref(), Some("did(self,get(p1))"));
     let d = decide("Get the mug for reheating.", &n);
     assert_eq!(d.kind, DecisionKind::Ask);
-    assert_eq!(d.parse.as_ref().map(|p| p.ignored.clone()), Some(vec!["for reheating".to_owned()]));
+    assert_eq!(
+        d.parse.as_ref().map(|p| p.ignored.clone()),
+        Some(vec!["for reheating".to_owned()])
+    );
 }
 
 #[test]
@@ -208,7 +248,10 @@ fn a_conditional_purpose_is_forbidden_only_where_it_applies() {
 fn pronouns_bind_to_the_nearest_earlier_step_and_the_focus_serves_only_the_first() {
     let d = decide("Get the red mug and put it in the sink.", &none());
     let parse = d.parse.clone().expect("parse");
-    assert_eq!(parse.form.map(|f| f.to_string()).as_deref(), Some("want(human,did(self,and(get(X),put(X,Y))))"));
+    assert_eq!(
+        parse.form.map(|f| f.to_string()).as_deref(),
+        Some("want(human,did(self,and(get(X),put(X,Y))))")
+    );
     assert_eq!(parse.steps.len(), 2);
     assert_eq!(parse.steps[1].pronouns[0].to, BoundTo::Step { step: 0, argument: 0 });
     assert_eq!(parse.steps[1].references[0].candidates, ["m1"]);
@@ -216,7 +259,12 @@ fn pronouns_bind_to_the_nearest_earlier_step_and_the_focus_serves_only_the_first
     let mut focused = words("Put it in the sink and get the plate.");
     focused.focus = vec!["m2".into()];
     let d = run(&focused, &kitchen(), &none());
-    assert_eq!(goal(&d).as_deref(), Some("did(self,and(put(m2,s1),get(p1)))"), "{}", d.utterance);
+    assert_eq!(
+        goal(&d).as_deref(),
+        Some("did(self,and(put(m2,s1),get(p1)))"),
+        "{}",
+        d.utterance
+    );
     let d = decide("Put it in the sink and get the plate.", &none());
     assert_eq!(d.kind, DecisionKind::Unresolved, "{}", d.utterance);
 }
@@ -363,9 +411,18 @@ mod never_guess {
 fn what_a_hostile_pass_found() {
     let n = none();
     for (text, expected) in [
-        ("Get the plate, get the knife, get the vase.", "did(self,and(get(p1),get(k1),get(v1)))"),
-        ("Get the red mug, put it in the sink, then get the plate.", "did(self,and(get(m1),put(m1,s1),get(p1)))"),
-        ("Get the red mug, and, put it in the sink.", "did(self,and(get(m1),put(m1,s1)))"),
+        (
+            "Get the plate, get the knife, get the vase.",
+            "did(self,and(get(p1),get(k1),get(v1)))",
+        ),
+        (
+            "Get the red mug, put it in the sink, then get the plate.",
+            "did(self,and(get(m1),put(m1,s1),get(p1)))",
+        ),
+        (
+            "Get the red mug, and, put it in the sink.",
+            "did(self,and(get(m1),put(m1,s1)))",
+        ),
         ("Pepper, get the plate.", "did(self,get(p1))"),
         ("Please, get the plate.", "did(self,get(p1))"),
         (
@@ -381,8 +438,14 @@ fn what_a_hostile_pass_found() {
     for (text, said) in [
         ("Get the mug and then.", "I did not understand \"then\"."),
         ("Get the mug and.", "I did not understand \"and\"."),
-        ("Get the red mug and tell me a joke.", "I did not understand \"tell me a joke\"."),
-        ("Get the red mug and get it back.", "I do not understand \"back\" in \"it back\"."),
+        (
+            "Get the red mug and tell me a joke.",
+            "I did not understand \"tell me a joke\".",
+        ),
+        (
+            "Get the red mug and get it back.",
+            "I do not understand \"back\" in \"it back\".",
+        ),
     ] {
         let d = decide(text, &n);
         assert!(d.goal.is_none(), "{text}");
@@ -406,14 +469,24 @@ fn the_deadline_and_the_cap_apply_to_the_task_as_a_whole() {
             cut += 1;
             assert!(d.goal.is_none(), "after {after}: {}", d.utterance);
             assert!(
-                !matches!(d.kind, DecisionKind::Comply | DecisionKind::Assume | DecisionKind::Confirm),
+                !matches!(
+                    d.kind,
+                    DecisionKind::Comply | DecisionKind::Assume | DecisionKind::Confirm
+                ),
                 "after {after}: {}",
                 d.utterance
             );
             // A question may name the whole tasks simulated to the end, and only those.
             for offered in &d.offered {
-                let reading = d.interpretations.iter().find(|i| &i.action == offered).expect("a reading");
-                assert!(reading.acceptable() && !reading.outcome.unfinished(), "after {after}: {offered}");
+                let reading = d
+                    .interpretations
+                    .iter()
+                    .find(|i| &i.action == offered)
+                    .expect("a reading");
+                assert!(
+                    reading.acceptable() && !reading.outcome.unfinished(),
+                    "after {after}: {offered}"
+                );
             }
         }
     }

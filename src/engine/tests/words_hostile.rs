@@ -146,16 +146,26 @@ fn a_purpose_or_a_further_step_is_never_left_out() {
         "I cannot get the mug to destroy the vase because destroy is forbidden action."
     );
     let d = run(&said("Grab the mug so I can smash it."), &lab, &norms);
-    assert_eq!(d.utterance, "I cannot get the mug to destroy it because destroy is forbidden action.");
+    assert_eq!(
+        d.utterance,
+        "I cannot get the mug to destroy it because destroy is forbidden action."
+    );
     // A step with nothing to act on, or a negated purpose, is not understood as a whole.
     for text in ["Get the mug to not reheat it.", "Grab the mug, then smash."] {
         let d = run(&said(text), &lab, &norms);
         assert_eq!(d.kind, DecisionKind::NotUnderstood, "{text}: {}", d.utterance);
-        assert_eq!(d.parse.as_ref().and_then(|p| p.unclear), Some(Unclear::Unplaced), "{text}");
+        assert_eq!(
+            d.parse.as_ref().and_then(|p| p.unclear),
+            Some(Unclear::Unplaced),
+            "{text}"
+        );
     }
     // Two steps the norms allow are a task, done whole.
     let d = run(&said("Get the mug. Put it on the red notebook."), &lab, &norms);
-    assert_eq!(d.goal.as_ref().map(ToString::to_string).as_deref(), Some("did(self,and(get(object5),put(object5,object1)))"));
+    assert_eq!(
+        d.goal.as_ref().map(ToString::to_string).as_deref(),
+        Some("did(self,and(get(object5),put(object5,object1)))")
+    );
     // A purpose of a verb the robot does not know changes nothing, and is shown.
     let d = run(&said("Get the mug for reheating."), &lab, &norms);
     assert_eq!(d.kind, DecisionKind::Comply);

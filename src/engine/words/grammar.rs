@@ -21,18 +21,20 @@
 use std::borrow::Cow;
 
 use super::lexicon::{Lexicon, Noun, inflects};
+use super::purpose::{Purposed, need_at, purpose_at, read_purpose};
+use super::steps::{
+    COMMA, Clause, assemble, comma_segments, listed, split_clauses, topic, with_commas, without_commas,
+};
+use super::tokens::{sentences, tokens};
 pub(super) use super::vocabulary::{DETERMINERS, FUNCTION_WORDS, NEGATIONS, PRONOUNS};
 use super::vocabulary::{MANNER, QUESTION_WORDS, STEP_WORDS, STRUCTURE};
-use super::purpose::{Purposed, need_at, purpose_at, read_purpose};
-use super::steps::{COMMA, Clause, assemble, comma_segments, listed, split_clauses, topic, with_commas, without_commas};
-use super::tokens::{sentences, tokens};
 use super::{Phrase, Understanding};
-use crate::engine::task::MAX_STEPS;
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
 use crate::engine::describe::after_the_noun;
 use crate::engine::resolve::{Reference, Sense};
+use crate::engine::task::MAX_STEPS;
 
 /// The most words of a reference after its last noun said back as not understood; a longer
 /// tail is reported as the whole reference.
@@ -296,7 +298,8 @@ fn clause(
         return unclear(Unclear::Negated, said(&words));
     }
     if !needed
-        && (QUESTION_WORDS.contains(&words[0].as_str()) || ["can", "could", "will", "would"].contains(&words[0].as_str()))
+        && (QUESTION_WORDS.contains(&words[0].as_str())
+            || ["can", "could", "will", "would"].contains(&words[0].as_str()))
     {
         return unclear(Unclear::Question, said(&words));
     }

@@ -19,12 +19,14 @@ pub use grammar::grammar_word;
 pub use lexicon::inflects;
 
 use super::action::Library;
-use super::decision::{Act, BoundTo, PronounBound, PurposeUnderstood, ReferenceParse, StepUnderstood, Unclear, Understood};
+use super::decision::{
+    Act, BoundTo, PronounBound, PurposeUnderstood, ReferenceParse, StepUnderstood, Unclear, Understood,
+};
 use super::request::{Answer, Directive};
 use super::resolve::Reference;
-use super::task::Argument;
 use super::scene::Scene;
 use super::simulate::did;
+use super::task::Argument;
 use super::term::{Sym, Term};
 
 /// One reference as the human said it.

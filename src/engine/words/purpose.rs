@@ -5,11 +5,11 @@
 //! names. Must not: take a purpose for a step of the robot's, or leave out a purpose whose verb
 //! is known and that names objects (it is read, or the words are not understood).
 
+use super::Phrase;
 use super::grammar::{
     DETERMINERS, FUNCTION_WORDS, PRONOUNS, is, reference, split_particle, strip_trailing_manner, verb_at,
 };
 use super::lexicon::Lexicon;
-use super::Phrase;
 use crate::engine::decision::Act;
 
 /// A purpose read: the act it names and its references.
@@ -120,4 +120,3 @@ pub(super) fn purpose_at(rest: &[String], joiners: &[String]) -> Option<(usize, 
         None
     })
 }
-

@@ -95,7 +95,10 @@ pub(super) fn listed(span: &[String]) -> Vec<Cow<'_, [String]>> {
             .collect();
     }
     if span.iter().any(|w| w == "or") {
-        let either = span.iter().map(|w| if w == COMMA { "or".to_owned() } else { w.clone() }).collect();
+        let either = span
+            .iter()
+            .map(|w| if w == COMMA { "or".to_owned() } else { w.clone() })
+            .collect();
         return vec![Cow::Owned(either)];
     }
     vec![without_commas(span)]
@@ -124,7 +127,9 @@ fn opens_clause(words: &[String], at: usize, lexicon: &Lexicon) -> bool {
     // An unknown verb before a reference, or before "me" and a reference ("tell me a joke").
     let opens_reference = |w: &String| DETERMINERS.contains(&w.as_str()) || PRONOUNS.contains(&w.as_str());
     let beneficiary = words.get(at + 1).is_some_and(|w| w == "me" || w == "us");
-    let next_opens_reference = words.get(at + 1 + usize::from(beneficiary)).is_some_and(opens_reference);
+    let next_opens_reference = words
+        .get(at + 1 + usize::from(beneficiary))
+        .is_some_and(opens_reference);
     next_opens_reference
         && !DETERMINERS.contains(&word.as_str())
         && !PRONOUNS.contains(&word.as_str())
@@ -151,7 +156,10 @@ pub(super) fn split_clauses(mut words: Vec<String>, lexicon: &Lexicon) -> Vec<Ve
     while i < words.len() {
         let word = words[i].as_str();
         let starts = current.iter().all(|w| w == COMMA);
-        if starts && word == "first" && (opens_clause(&words, i + 1, lexicon) || words.get(i + 1).is_some_and(|w| w == COMMA)) {
+        if starts
+            && word == "first"
+            && (opens_clause(&words, i + 1, lexicon) || words.get(i + 1).is_some_and(|w| w == COMMA))
+        {
             i += 1;
             continue;
         }
@@ -218,7 +226,18 @@ pub(super) fn split_clauses(mut words: Vec<String>, lexicon: &Lexicon) -> Vec<Ve
 /// "It is too sweet." / "The soup is too sweet.": what a first sentence says of an object,
 /// when that is all it says.
 pub(super) fn topic(words: &[String], lexicon: &Lexicon) -> Option<Topic> {
-    const DEGREE: &[&str] = &["too", "very", "really", "so", "quite", "rather", "extremely", "a", "bit", "little"];
+    const DEGREE: &[&str] = &[
+        "too",
+        "very",
+        "really",
+        "so",
+        "quite",
+        "rather",
+        "extremely",
+        "a",
+        "bit",
+        "little",
+    ];
     let (subject, after) = match words {
         [it, rest @ ..] if it == "it's" => (None, rest),
         [it, is, rest @ ..] if it == "it" && is == "is" => (None, rest),
@@ -231,7 +250,11 @@ pub(super) fn topic(words: &[String], lexicon: &Lexicon) -> Option<Topic> {
             (Some(subject), &words[at + 1..])
         }
     };
-    let adjectives: Vec<String> = after.iter().skip_while(|w| DEGREE.contains(&w.as_str())).cloned().collect();
+    let adjectives: Vec<String> = after
+        .iter()
+        .skip_while(|w| DEGREE.contains(&w.as_str()))
+        .cloned()
+        .collect();
     if adjectives.is_empty() || adjectives.iter().any(|w| DETERMINERS.contains(&w.as_str())) {
         return None;
     }
@@ -244,7 +267,9 @@ pub(super) fn topic(words: &[String], lexicon: &Lexicon) -> Option<Topic> {
 
 /// The nearest step before `before` (not counting it) that has an argument.
 fn antecedent(steps: &[StepRead], before: usize) -> Option<usize> {
-    (0..before.min(steps.len())).rev().find(|&s| !steps[s].arguments.is_empty())
+    (0..before.min(steps.len()))
+        .rev()
+        .find(|&s| !steps[s].arguments.is_empty())
 }
 
 fn is_pronoun(phrase: &Phrase) -> bool {
@@ -321,8 +346,8 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
     // described it; with no such sentence, the object in focus.
     let mut topic_used = false;
     if let Some(topic) = &topic {
-        let arguments = (steps.iter_mut().flat_map(|s| &mut s.arguments))
-            .chain(purposes.iter_mut().flat_map(|p| &mut p.arguments));
+        let arguments =
+            (steps.iter_mut().flat_map(|s| &mut s.arguments)).chain(purposes.iter_mut().flat_map(|p| &mut p.arguments));
         for argument in arguments.filter(|a| a.bound.is_none() && is_pronoun(&a.phrase)) {
             // "It is too sweet.": whatever is so described; the sentence says which, not the focus.
             let base = match &topic.subject {
