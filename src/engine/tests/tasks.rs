@@ -499,3 +499,36 @@ fn the_deadline_and_the_cap_apply_to_the_task_as_a_whole() {
     assert_eq!(d.limits.map(|l| l.readings), Some(4));
     assert_eq!(d.utterance, "I do not know which mug and which other mug you mean.");
 }
+
+/// Each construction's negative case: words that look like it and are not it, or that it must
+/// not take as it.
+#[test]
+fn each_construction_takes_only_what_it_is() {
+    let n = none();
+    for (text, kind) in [
+        // "and" between two references of one verb is a list, never two verbs.
+        ("Get the red mug and the sink.", DecisionKind::Comply),
+        // "then" with nothing after it: cut short.
+        ("Get the red mug, then.", DecisionKind::NotUnderstood),
+        // "after that" alone is no step.
+        ("After that.", DecisionKind::NotUnderstood),
+        // "first" is the order said, never a word of the reference.
+        ("First get the first mug.", DecisionKind::Unresolved),
+        // "or" with a reference that names nothing: the human may have meant just that one.
+        ("Get the red mug or the spoon.", DecisionKind::Unresolved),
+        // A need of nothing, or of an act: no request.
+        ("I need.", DecisionKind::NotUnderstood),
+        ("I need to get the plate.", DecisionKind::NotUnderstood),
+        // A purpose whose verb is known but whose object cannot be placed: not understood.
+        ("Get the plate to put it.", DecisionKind::NotUnderstood),
+        // A first sentence that is not "it is …": a clause like any other.
+        ("It fell. Get it.", DecisionKind::NotUnderstood),
+    ] {
+        let d = decide(text, &n);
+        assert_eq!(d.kind, kind, "{text}: {}", d.utterance);
+        if kind != DecisionKind::Comply {
+            assert!(d.goal.is_none(), "{text}");
+        }
+    }
+    assert_eq!(goal(&decide("Get the red mug and the sink.", &n)).as_deref(), Some("did(self,and(get(m1),get(s1)))"));
+}
