@@ -29,6 +29,7 @@ mod plans;
 mod runner;
 mod safety;
 mod scenes;
+mod shape_tasks;
 mod shapes;
 mod soft;
 mod tasks;

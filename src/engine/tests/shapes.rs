@@ -9,16 +9,14 @@
 //! so treated fails when its steps are checked alone in order (`/v1/check`'s path), and a
 //! purpose the norms forbid outright is never obeyed.
 
+use super::shape_tasks::{Said, arb_steps, arb_task_words, check_tasks};
 use super::*;
 use crate::engine::action::ActionInput;
-use crate::engine::check::check as check_steps;
-use crate::engine::decision::Style;
 use crate::engine::describe::is_task;
-use crate::engine::norms::Scope;
 use crate::engine::request::Answer;
 use crate::engine::task::{Argument, Step, Task};
 
-const KINDS: [&str; 3] = ["vase", "mug", "box"];
+pub(super) const KINDS: [&str; 3] = ["vase", "mug", "box"];
 const COLOURS: [&str; 3] = ["red", "green", "blue"];
 
 /// One random object: kind, fragile, colour, clean, far, y offset, shape (0 none, 1 small ball,
@@ -137,48 +135,6 @@ fn arb_words() -> impl Strategy<Value = String> {
                 need => format!("{need}{}{then}", words[1..].join(" ")),
             }
         },
-    )
-}
-
-/// Well-formed words of tasks and purposes: a first clause the scene can place, then another
-/// step, a list, an "or", or a purpose.
-fn arb_task_words() -> impl Strategy<Value = String> {
-    let verb = prop::sample::select(vec![
-        "get",
-        "grab",
-        "take",
-        "destroy",
-        "tidy up",
-        "juggle",
-        "I need",
-        "Can I have",
-    ]);
-    let colour = prop::sample::select(vec!["", "red ", "green ", "blue "]);
-    let kind = prop::sample::select(KINDS.to_vec());
-    let then = prop::sample::select(vec![
-        " and put it on the box",
-        " and then destroy it",
-        ". Put it on the red box.",
-        " and the mug",
-        " or the box",
-        " so I can smash it",
-        " to smash the box",
-        " for smashing the vase",
-        " to put it on the box",
-        ", then get the vase and put it on the mug",
-        " and juggle it",
-    ]);
-    (verb, colour, kind, then).prop_map(|(verb, colour, kind, then)| format!("{verb} the {colour}{kind}{then}"))
-}
-
-fn arb_steps() -> impl Strategy<Value = Vec<(&'static str, usize, bool)>> {
-    prop::collection::vec(
-        (
-            prop::sample::select(vec!["get", "destroy", "put", "tidy", "pointTo"]),
-            0..3usize,
-            any::<bool>(),
-        ),
-        1..=4,
     )
 }
 
@@ -565,68 +521,19 @@ proptest! {
             return Ok(());
         };
         check(&d)?;
-        check_tasks(&d, &case, &scene, &norms, &library)?;
+        let said = Said {
+            words: match &case.directive {
+                Shaped::Words(w) => Some(w.as_str()),
+                _ => None,
+            },
+            answer: &case.answer,
+            norms: &case.norms,
+            roles: &case.roles,
+            context: case.context,
+        };
+        check_tasks(&d, &said, &scene, &norms, &library)?;
         prop_assert_eq!(&clarify(&request, &scene, &norms, &library, &|| false).unwrap(), &d);
     }
-}
-
-/// A task offered, confirmed or acted on passes when its steps are checked alone, in order, in
-/// one world (`/v1/check`'s path, which shares no code with a task's readings but the
-/// simulation of one step); and a purpose the norms forbid outright (destroying, for anyone,
-/// anywhere) is never obeyed or offered.
-fn check_tasks(
-    d: &Decision,
-    case: &Case,
-    scene: &Scene,
-    norms: &CompiledNorms,
-    library: &Library,
-) -> Result<(), TestCaseError> {
-    let roles: Vec<String> = case.roles.iter().map(|r| (*r).to_owned()).collect();
-    let scope = Scope {
-        context: case.context,
-        roles: &roles,
-        soft: true,
-    };
-    let said_in = matches!(&case.directive, Shaped::Words(w) if w.contains(" in "));
-    for action in d.offered.iter().chain(&d.goal) {
-        let Some(task) = action.args().get(1).filter(|a| is_task(a)) else {
-            continue;
-        };
-        if said_in {
-            continue;
-        }
-        let checked = check_steps(task.args(), scene, norms, library, scope, Style::Diarc, &|| false);
-        prop_assert!(
-            checked.permitted(),
-            "offered {} ({}): {}",
-            action,
-            d.kind.as_str(),
-            checked.utterance
-        );
-    }
-    let destroy_forbidden = case.norms.iter().any(|n| {
-        n.kind.as_deref() == Some("forbidden_action")
-            && n.action.as_deref() == Some("destroy")
-            && n.when.is_none()
-            && n.roles.is_none()
-            && n.exempt_roles.is_none()
-            && n.context.is_none()
-    });
-    let purposed = |w: &str| {
-        ["so I can smash it", "to smash the box", "for smashing the vase"]
-            .iter()
-            .any(|p| w.contains(p))
-    };
-    // An answer that is a whole new directive ("Get the vase.") is decided afresh, without it.
-    let afresh = matches!(&case.answer, Some(Answer::Words(w)) if w.ends_with('.'));
-    if destroy_forbidden && !afresh && matches!(&case.directive, Shaped::Words(w) if purposed(w)) {
-        prop_assert!(
-            d.goal.is_none() && d.offered.is_empty(),
-            "a forbidden purpose went along: {}",
-            d.utterance
-        );
-    }
-    Ok(())
 }
 
 proptest! {

@@ -530,5 +530,8 @@ fn each_construction_takes_only_what_it_is() {
             assert!(d.goal.is_none(), "{text}");
         }
     }
-    assert_eq!(goal(&decide("Get the red mug and the sink.", &n)).as_deref(), Some("did(self,and(get(m1),get(s1)))"));
+    assert_eq!(
+        goal(&decide("Get the red mug and the sink.", &n)).as_deref(),
+        Some("did(self,and(get(m1),get(s1)))")
+    );
 }
