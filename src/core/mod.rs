@@ -27,7 +27,7 @@ use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec
 use crate::engine::request::{Answer, Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
-use crate::engine::task::MAX_STEPS;
+use crate::engine::task::{Argument, MAX_STEPS};
 use crate::engine::words::Understanding;
 use crate::error::Error;
 use crate::metrics::Metrics;
@@ -152,7 +152,18 @@ fn steps_read(request: &Request, read: &Understanding, scene: &Scene, library: &
         }),
         other => at_most_readings(other, scene),
     };
-    readings.saturating_mul(u128::from(expansion_of(directive, library)))
+    // Each reading also checks its purposes, once for every object a purpose's own references
+    // match: a step's worth of work each.
+    let purposes = match directive {
+        Directive::Task(task) => (task.purposes.iter().flat_map(|p| &p.arguments))
+            .filter_map(|a| match a {
+                Argument::Reference(reference) => Some(scene.objects.iter().filter(|o| reference.matches(o)).count()),
+                Argument::Earlier { .. } => None,
+            })
+            .fold(0u128, |n, m| n.saturating_add(m as u128)),
+        _ => 0,
+    };
+    readings.saturating_mul(u128::from(expansion_of(directive, library)).saturating_add(purposes))
 }
 
 /// Requests that may cost more than this many simulated steps (about 100 ms of a core at the
