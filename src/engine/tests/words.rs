@@ -259,6 +259,9 @@ mod never_guess {
         " pls",
         ", the ★ one",
         ", Pepper",
+        " that is not red",
+        " but the red one",
+        " which is green",
     ];
 
     fn scenes() -> Vec<crate::engine::scene::Scene> {
@@ -315,10 +318,10 @@ mod never_guess {
                 for a in &adjectives {
                     prop_assert!(true_of(a), "{text}: `{a}` is not true of {id}");
                 }
-                if trailing.contains("not the red") || trailing.contains("not red") {
+                if trailing.contains("not the red") || trailing.contains("not red") || trailing.contains("but the red") {
                     prop_assert!(!true_of("red"), "{text}: {id} is red");
                 }
-                if trailing.contains("the green one") {
+                if trailing.contains("the green one") || trailing.contains("is green") {
                     prop_assert!(true_of("green"), "{text}: {id} is not green");
                 }
             }
@@ -496,4 +499,50 @@ fn a_sign_or_an_emoji_is_a_word_not_known_and_the_robot_says_it() {
     ] {
         assert_eq!(run(&said(text), &lab(), &norms).kind, DecisionKind::Assume, "{text}");
     }
+}
+
+/// Exclusion and relative clauses inside one reference (the references issue's first part):
+/// what follows "that is", "but", "except", "other than" narrows, and words it cannot place
+/// make the reference match nothing.
+#[test]
+fn exclusion_and_relative_clauses_narrow_a_reference() {
+    let lab = lab();
+    for (text, expected) in [
+        (
+            "Get the notebook that is not red.",
+            Ok(("get", vec![ids(&["object2"])])),
+        ),
+        ("Get the notebook which is red.", Ok(("get", vec![ids(&["object1"])]))),
+        ("Get the vase that is fragile.", Ok(("get", vec![ids(&["object3"])]))),
+        (
+            "Get any notebook but the red one.",
+            Ok(("get", vec![ids(&["object2"])])),
+        ),
+        (
+            "Get any vase except the fragile one.",
+            Ok(("get", vec![ids(&["object4"])])),
+        ),
+        (
+            "Get a vase other than the plastic one.",
+            Ok(("get", vec![ids(&["object3"])])),
+        ),
+        ("Get any notebook.", Ok(("get", vec![ids(&["object1", "object2"])]))),
+        // Words the scene does not know after the clause: nothing, never every notebook.
+        ("Get the notebook that is not wet.", Ok(("get", vec![vec![]]))),
+        ("Get the notebook but the ★ one.", Ok(("get", vec![vec![]]))),
+        ("Get the notebook but.", Ok(("get", vec![vec![]]))),
+        ("Get the notebook that is on the table.", Ok(("get", vec![vec![]]))),
+    ] {
+        let got = read(text, &lab);
+        let expected = expected.map(|(verb, candidates): (&str, Vec<Vec<String>>)| (verb.to_owned(), candidates));
+        assert_eq!(got, expected, "{text}");
+    }
+    // "any" is an indefinite: any acceptable one will do.
+    let d = run(&said("Get any notebook but the red one."), &lab, &paper_norms());
+    assert_eq!(
+        d.goal.as_ref().map(ToString::to_string).as_deref(),
+        Some("did(self,get(object2))")
+    );
+    let d = run(&said("Get any vase."), &lab, &paper_norms());
+    assert_eq!(d.kind, DecisionKind::Assume, "{}", d.utterance);
 }

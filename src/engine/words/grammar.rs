@@ -381,7 +381,8 @@ fn clause(
         strip_trailing_manner(&mut rest, &mut ignored);
     }
     // "get the cup not the red one": the rest excludes.
-    if let Some(at) = (1..rest.len()).find(|&i| rest[i] == "not") {
+    // ("that is not red" is a relative clause inside the reference, read there.)
+    if let Some(at) = (1..rest.len()).find(|&i| rest[i] == "not" && rest[i - 1] != "is") {
         narrowings.insert(
             0,
             Narrowing {
@@ -441,6 +442,28 @@ fn clause(
         purposes,
         ignored,
     })
+}
+
+/// `base` narrowed inside one reference by a relative clause or an exclusion: what `by` names
+/// must (`keep`) or must not be true of the object. Words after the clause that name nothing
+/// make it match nothing, as in a narrowing set off by a comma.
+fn excluded(base: Phrase, by: Phrase, keep: bool, words: String) -> Phrase {
+    let by = match by.words.is_empty() {
+        true => Reference::Nothing {
+            words: String::new(),
+            unplaced: Some(words.clone()),
+        },
+        false => by.reference,
+    };
+    Phrase {
+        reference: Reference::Narrowed {
+            base: Box::new(base.reference),
+            by: Box::new(by),
+            keep,
+            words: words.clone(),
+        },
+        words,
+    }
 }
 
 /// A phrase that names nothing, held while the one in its place is rebuilt.
@@ -554,6 +577,23 @@ pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
             words,
         };
     }
+    // "the mug that is not red", "the mug which is red": a relative clause of adjectives;
+    // "any cup but (except, other than) the blue one": every match less what follows.
+    if let Some(at) = (1..span.len().saturating_sub(2))
+        .find(|&i| ["that", "which"].contains(&span[i].as_str()) && span[i + 1] == "is")
+    {
+        let negated = span[at + 2] == "not";
+        let by = reference_or_adjectives(&span[at + 2 + usize::from(negated)..], lexicon);
+        return excluded(reference(&span[..at], lexicon), by, !negated, words);
+    }
+    if let Some((at, n)) = (1..span.len()).find_map(|i| match span[i].as_str() {
+        "but" | "except" => Some((i, 1)),
+        "other" if span.get(i + 1).is_some_and(|w| w == "than") => Some((i, 2)),
+        _ => None,
+    }) {
+        let by = reference_or_adjectives(&span[at + n..], lexicon);
+        return excluded(reference(&span[..at], lexicon), by, false, words);
+    }
     if span.len() == 1 && PRONOUNS.contains(&span[0].as_str())
         || span.len() == 2 && ["this", "that"].contains(&span[0].as_str()) && span[1] == "one"
     {
@@ -572,7 +612,7 @@ pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
             named: noun.named,
             adjectives,
             words: words.clone(),
-            indefinite: ["a", "an"].contains(&span[0].as_str()),
+            indefinite: ["a", "an", "any"].contains(&span[0].as_str()),
         },
         None => Reference::Nothing {
             words: words.clone(),
