@@ -382,43 +382,41 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
         .collect();
     let verb = steps[0].verb.clone();
     let act = steps[0].act;
-    if let ([one], true) = (steps.as_slice(), purposes.is_empty()) {
-        let directive = Directive::Action {
-            verb: one.verb.clone(),
+    // One step said for itself is the directive of one action it always was, its parse without
+    // steps; anything more is a task.
+    let one_step = steps.len() == 1 && purposes.is_empty();
+    let directive = if one_step {
+        Directive::Action {
+            verb: verb.clone(),
             arguments: references.iter().map(|p| p.reference.clone()).collect(),
             joiner: joiners.pop().flatten(),
+        }
+    } else {
+        let argument = |a: &ArgumentRead| match a.bound {
+            Some((step, argument)) => Argument::Earlier { step, argument },
+            None => Argument::Reference(a.phrase.reference.clone()),
         };
-        let parse = Parse {
-            act,
-            addressee,
-            verb,
-            references,
-            ignored,
-            steps: Vec::new(),
-            purposes: Vec::new(),
-        };
-        return Understanding::Directive { directive, parse };
-    }
-    let argument = |a: &ArgumentRead| match a.bound {
-        Some((step, argument)) => Argument::Earlier { step, argument },
-        None => Argument::Reference(a.phrase.reference.clone()),
+        Directive::Task(Task {
+            steps: (steps.iter().zip(joiners))
+                .map(|(s, joiner)| Step {
+                    verb: s.verb.clone(),
+                    arguments: s.arguments.iter().map(argument).collect(),
+                    joiner,
+                })
+                .collect(),
+            purposes: (purposes.iter())
+                .map(|p| Purpose {
+                    words: p.words.clone(),
+                    verb: p.verb.clone(),
+                    arguments: p.arguments.iter().map(argument).collect(),
+                    after: p.after,
+                })
+                .collect(),
+        })
     };
-    let task = Task {
-        steps: (steps.iter().zip(joiners))
-            .map(|(s, joiner)| Step {
-                verb: s.verb.clone(),
-                arguments: s.arguments.iter().map(argument).collect(),
-                joiner,
-            })
-            .collect(),
-        purposes: (purposes.iter())
-            .map(|p| Purpose {
-                words: p.words.clone(),
-                verb: p.verb.clone(),
-                arguments: p.arguments.iter().map(argument).collect(),
-                after: p.after,
-            })
-            .collect(),
+    let (steps, purposes) = match one_step {
+        true => (Vec::new(), Vec::new()),
+        false => (steps, purposes),
     };
     let parse = Parse {
         act,
@@ -429,8 +427,5 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
         steps,
         purposes,
     };
-    Understanding::Directive {
-        directive: Directive::Task(task),
-        parse,
-    }
+    Understanding::Directive { directive, parse }
 }

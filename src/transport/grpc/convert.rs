@@ -13,8 +13,8 @@ use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
-    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, Scalar, SceneBody,
-    ShapeBody, StepArgumentBody, StepBody,
+    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, ReferenceParseDto, Scalar,
+    SceneBody, ShapeBody, StepArgumentBody, StepBody,
 };
 
 fn missing(field: &str) -> Error {
@@ -229,24 +229,14 @@ impl From<DecisionDto> for pb::ClarifyResponse {
                 act: p.act,
                 addressee: p.addressee,
                 form: p.form,
-                references: (p.references.into_iter())
-                    .map(|r| pb::ParsedReference {
-                        words: r.words,
-                        candidates: r.candidates,
-                    })
-                    .collect(),
+                references: p.references.into_iter().map(parsed_reference).collect(),
                 ignored: p.ignored,
                 unclear: p.unclear,
                 steps: (p.steps.into_iter())
                     .map(|s| pb::ParsedStep {
                         act: s.act,
                         form: s.form,
-                        references: (s.references.into_iter())
-                            .map(|r| pb::ParsedReference {
-                                words: r.words,
-                                candidates: r.candidates,
-                            })
-                            .collect(),
+                        references: s.references.into_iter().map(parsed_reference).collect(),
                         pronouns: (s.pronouns.into_iter())
                             .map(|p| pb::ParsedPronoun {
                                 words: p.words,
@@ -268,6 +258,14 @@ impl From<DecisionDto> for pb::ClarifyResponse {
                     .collect(),
             }),
         }
+    }
+}
+
+/// One reference of a parse (of the words, or of one step of a task).
+fn parsed_reference(r: ReferenceParseDto) -> pb::ParsedReference {
+    pb::ParsedReference {
+        words: r.words,
+        candidates: r.candidates,
     }
 }
 
