@@ -115,13 +115,27 @@ impl<'a> Fields<'a> {
 }
 
 fn reference(value: &Value, at: &str) -> Result<pb::Reference> {
-    let f = Fields::of(value, at, &["id", "type", "attributes", "properties"])?;
+    let f = Fields::of(value, at, &["id", "type", "attributes", "properties", "relations"])?;
     Ok(pb::Reference {
         id: f.string("id")?,
         r#type: f.string("type")?,
         attributes: f.string_map("attributes")?,
         properties: f.strings("properties")?,
+        relations: relations(&f)?,
     })
+}
+
+/// A reference's relations: each `{relation, to}`, `to` a reference of its own.
+fn relations(f: &Fields<'_>) -> Result<Vec<pb::Relation>> {
+    (f.list("relations")?.into_iter())
+        .map(|(at, v)| {
+            let r = Fields::of(v, &at, &["relation", "to"])?;
+            Ok(pb::Relation {
+                relation: r.string("relation")?.ok_or_else(|| format!("{at}.relation: missing"))?,
+                to: r.nested("to", reference)?,
+            })
+        })
+        .collect()
 }
 
 /// A candidate is an id, or `{id, score}`.
@@ -185,12 +199,22 @@ fn step(value: &Value, at: &str) -> Result<pb::Step> {
     let f = Fields::of(value, at, &["action", "arguments", "joiner"])?;
     let arguments = (f.list("arguments")?.into_iter())
         .map(|(at, v)| {
-            let a = Fields::of(v, &at, &["id", "type", "attributes", "properties", "step", "argument"])?;
+            let known = [
+                "id",
+                "type",
+                "attributes",
+                "properties",
+                "relations",
+                "step",
+                "argument",
+            ];
+            let a = Fields::of(v, &at, &known)?;
             Ok(pb::StepArgument {
                 id: a.string("id")?,
                 r#type: a.string("type")?,
                 attributes: a.string_map("attributes")?,
                 properties: a.strings("properties")?,
+                relations: relations(&a)?,
                 step: a.count("step")?,
                 argument: a.count("argument")?,
             })
@@ -262,7 +286,15 @@ fn object(value: &Value, at: &str) -> Result<pb::Object> {
 fn scene(value: &Value, at: &str) -> Result<pb::Scene> {
     let f = Fields::of(value, at, &["agent", "objects", "facts"])?;
     let agent = f.nested("agent", |v, at| {
-        let known = ["id", "position", "reach", "gripper_aperture", "payload", "gripper_size"];
+        let known = [
+            "id",
+            "position",
+            "reach",
+            "gripper_aperture",
+            "payload",
+            "gripper_size",
+            "rotation",
+        ];
         let a = Fields::of(v, at, &known)?;
         Ok(pb::Agent {
             id: a.string("id")?,
@@ -271,6 +303,7 @@ fn scene(value: &Value, at: &str) -> Result<pb::Scene> {
             gripper_aperture: a.number("gripper_aperture")?,
             payload: a.number("payload")?,
             gripper_size: a.number("gripper_size")?,
+            rotation: a.numbers("rotation")?,
         })
     })?;
     Ok(pb::Scene {

@@ -42,6 +42,7 @@ static SCENE: LazyLock<Scene> = LazyLock::new(|| {
             gripper_aperture: None,
             payload: None,
             gripper_size: None,
+            rotation: None,
         },
         objects: vec![
             object("object1", "notebook", &[], &[("color", "red")]),

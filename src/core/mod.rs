@@ -143,11 +143,11 @@ fn steps_read(request: &Request, read: &Understanding, scene: &Scene, library: &
     };
     let readings = match directive {
         Directive::Action { arguments, .. } => arguments.iter().fold(1u128, |n, reference| {
-            let matches = scene.objects.iter().filter(|o| reference.matches(o)).count();
+            let matches = scene.objects.iter().filter(|o| reference.head_matches(o)).count();
             n.saturating_mul(matches as u128)
         }),
         Directive::Task(task) => task.references().fold(1u128, |n, reference| {
-            let matches = scene.objects.iter().filter(|o| reference.matches(o)).count();
+            let matches = scene.objects.iter().filter(|o| reference.head_matches(o)).count();
             n.saturating_mul(matches as u128)
         }),
         other => at_most_readings(other, scene),
@@ -157,7 +157,9 @@ fn steps_read(request: &Request, read: &Understanding, scene: &Scene, library: &
     let purposes = match directive {
         Directive::Task(task) => (task.purposes.iter().flat_map(|p| &p.arguments))
             .filter_map(|a| match a {
-                Argument::Reference(reference) => Some(scene.objects.iter().filter(|o| reference.matches(o)).count()),
+                Argument::Reference(reference) => {
+                    Some(scene.objects.iter().filter(|o| reference.head_matches(o)).count())
+                }
                 Argument::Earlier { .. } => None,
             })
             .fold(0u128, |n, m| n.saturating_add(m as u128)),

@@ -273,22 +273,33 @@ fn decide_directive(
     // said as any reference that does.
     let (template, mut slots, purpose_slots) = match directive {
         Directive::Task(task) => {
-            let (mut shape, slots, purpose_slots) = task.shape(scene);
+            let (mut shape, slots, purpose_slots) = task.shape(scene, expired);
             shape
                 .join(library)
                 .map_err(|(verb, joiner)| EngineError::BadJoiner { verb, joiner })?;
             (Template::Task(Box::new(shape)), slots, purpose_slots)
         }
         _ => {
-            let (template, slots) = slots(directive, scene);
+            let (template, slots) = slots(directive, scene, expired);
             (template, slots, Vec::new())
         }
     };
+    // A slot cut short by the deadline is empty, and says nothing of the scene.
+    if expired() {
+        let limits = Limits {
+            kind: LimitKind::Deadline,
+            readings: 0,
+            simulated: 0,
+        };
+        let plan = decide(options, &[], &slots, true);
+        return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
+    }
     let missing: Vec<Unfound> = (slots.iter().chain(&purpose_slots))
         .filter(|s| s.candidates.is_empty())
         .map(|s| Unfound {
             words: s.words.clone(),
             unplaced: s.unplaced.clone(),
+            untold: s.untold.clone(),
         })
         .collect();
     if !missing.is_empty() {
@@ -298,7 +309,7 @@ fn decide_directive(
         Some(answer @ (Answer::Id(_) | Answer::Reference(_))) => Some(answer),
         _ => None,
     };
-    let narrowed = narrowing.map(|answer| Narrowed::new(answer, &slots, scene));
+    let narrowed = narrowing.map(|answer| Narrowed::new(answer, &slots, scene, expired));
     let count = match &narrowed {
         Some(narrowed) => narrowed.count(),
         None => slots
@@ -329,7 +340,7 @@ fn decide_directive(
     // Only readings that will be simulated are worth putting in order: the order of a few
     // candidates is a hint to the sort, given up at the deadline.
     let narrowed = match presort(&mut slots, &mut describer, expired) {
-        true => narrowing.map(|answer| Narrowed::new(answer, &slots, scene)),
+        true => narrowing.map(|answer| Narrowed::new(answer, &slots, scene, expired)),
         false => narrowed,
     };
     let chosen = match &narrowed {
@@ -354,14 +365,17 @@ fn decide_directive(
             Some(Answer::Reference(reference)) => Unfound {
                 words: reference.words(scene),
                 unplaced: reference.unplaced(),
+                untold: None,
             },
             Some(Answer::Id(id)) => Unfound {
                 words: Reference::Id(id.clone()).words(scene),
                 unplaced: None,
+                untold: None,
             },
             _ => Unfound {
                 words: String::new(),
                 unplaced: None,
+                untold: None,
             },
         };
         return Ok(finish(

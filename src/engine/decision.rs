@@ -71,6 +71,9 @@ pub enum Plan {
 pub struct Unfound {
     pub words: String,
     pub unplaced: Option<String>,
+    /// What the scene could not tell, said whole ("I cannot tell which box is the biggest: I
+    /// do not know how big every box is."), when that is why nothing matched.
+    pub untold: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

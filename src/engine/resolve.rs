@@ -8,9 +8,13 @@ use std::collections::BTreeMap;
 
 use super::input::{Invalid, constant};
 use super::request::{Answer, Directive};
+use super::scene::relate::{Direction, Relation, Superlative};
 use super::scene::{Object, Scene, spoken};
 use super::task::Shape;
 use super::term::{Subst, Sym, Term};
+
+mod select;
+pub use select::Selected;
 
 /// What an adjective in words may say of an object.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -72,6 +76,37 @@ pub enum Reference {
         options: Vec<Reference>,
         words: String,
     },
+    /// "the cup on the table": what `base` matches that stands in `relation` to an object `to`
+    /// matches (`scene::relate` says when it does).
+    Related {
+        base: Box<Reference>,
+        relation: Relation,
+        to: Box<Reference>,
+        words: String,
+    },
+    /// Words that read more than one way ("the cup on the table next to the fork": the table
+    /// next to the fork, or the cup next to it): the objects any reading matches.
+    Union {
+        readings: Vec<Reference>,
+        words: String,
+    },
+    /// "the biggest box": of what `base` matches, the best by the measure and those tied with
+    /// it; when one of them lacks the measure, nothing.
+    Most {
+        base: Box<Reference>,
+        superlative: Superlative,
+        /// The superlative as said ("biggest").
+        said: String,
+        words: String,
+    },
+    /// "the second cup from the left": of what `base` matches, those that may be `nth`
+    /// (from 1) counting from `from`.
+    Nth {
+        base: Box<Reference>,
+        nth: usize,
+        from: Direction,
+        words: String,
+    },
 }
 
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
@@ -82,12 +117,57 @@ pub struct ReferenceInput {
     pub kind: Option<String>,
     pub attributes: Option<BTreeMap<String, String>>,
     pub properties: Option<Vec<String>>,
+    /// `(relation name, landmark)`: the object must stand in each to an object the landmark
+    /// matches.
+    pub relations: Vec<(String, ReferenceInput)>,
 }
+
+/// The most relations a structured reference carries, counting those of its landmarks: as
+/// many as words may chain, and a bound on the work they ask.
+pub const MAX_RELATIONS: usize = 8;
 
 impl Reference {
     /// A reference by id must name an object of the scene; a description needs at least one of
     /// its parts. Fields named relative to the reference.
     pub fn from_input(input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
+        let mut budget = MAX_RELATIONS;
+        Reference::from_input_within(input, scene, &mut budget)
+    }
+
+    /// [`Reference::from_input`], with `budget` relations left to the whole reference.
+    fn from_input_within(mut input: ReferenceInput, scene: &Scene, budget: &mut usize) -> Result<Reference, Invalid> {
+        let relations = std::mem::take(&mut input.relations);
+        let mut reference = Reference::plain_input(input, scene)?;
+        for (i, (name, to)) in relations.into_iter().enumerate() {
+            let at = format!("/relations/{i}");
+            let Some(relation) = Relation::from_name(&name) else {
+                let names: Vec<&str> = Relation::ALL.iter().map(|r| r.name()).collect();
+                return Err(Invalid::new(
+                    format!("{at}/relation"),
+                    format!("unknown relation `{name}`; expected one of {}", names.join(", ")),
+                ));
+            };
+            if *budget == 0 {
+                return Err(Invalid::new(
+                    at,
+                    format!("at most {MAX_RELATIONS} relations in one reference, its landmarks' included"),
+                ));
+            }
+            *budget -= 1;
+            let to = Reference::from_input_within(to, scene, budget).map_err(|e| e.within(&format!("{at}/to")))?;
+            let words = format!("{} {} {}", reference.words(scene), relation.spoken(), to.words(scene));
+            reference = Reference::Related {
+                base: Box::new(reference),
+                relation,
+                to: Box::new(to),
+                words,
+            };
+        }
+        Ok(reference)
+    }
+
+    /// A reference by id or by description, without relations.
+    fn plain_input(input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
         if let Some(id) = input.id {
             if input.kind.is_some() || input.attributes.is_some() || input.properties.is_some() {
                 return Err(Invalid::new(
@@ -121,7 +201,10 @@ impl Reference {
         })
     }
 
-    pub fn matches(&self, object: &Object) -> bool {
+    /// Whether the object is one the reference may mean, judged by the object alone: exact for
+    /// a reference by id, description or adjectives; for one with relations, a superlative or
+    /// an ordinal, what its head matches (a superset of [`Reference::select`]).
+    pub fn head_matches(&self, object: &Object) -> bool {
         match self {
             Reference::Id(id) => object.id == id.as_str(),
             Reference::Described {
@@ -149,11 +232,11 @@ impl Reference {
                         })
                     })
             }
-            Reference::Narrowed { base, by, keep, .. } => {
-                !by.names_nothing() && base.matches(object) && by.matches(object) == *keep
-            }
-            Reference::Either { options, .. } => {
-                !options.iter().any(Reference::names_nothing) && options.iter().any(|o| o.matches(object))
+            Reference::Narrowed { base, .. } => base.head_matches(object),
+            Reference::Either { options, .. } => options.iter().any(|o| o.head_matches(object)),
+            Reference::Union { readings, .. } => readings.iter().any(|o| o.head_matches(object)),
+            Reference::Related { base, .. } | Reference::Most { base, .. } | Reference::Nth { base, .. } => {
+                base.head_matches(object)
             }
             Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
         }
@@ -166,6 +249,9 @@ impl Reference {
             Reference::Nothing { .. } | Reference::Pronoun { .. } => true,
             Reference::Narrowed { base, by, .. } => base.names_nothing() || by.names_nothing(),
             Reference::Either { options, .. } => options.iter().any(Reference::names_nothing),
+            Reference::Union { readings, .. } => readings.iter().any(Reference::names_nothing),
+            Reference::Related { base, to, .. } => base.names_nothing() || to.names_nothing(),
+            Reference::Most { base, .. } | Reference::Nth { base, .. } => base.names_nothing(),
             Reference::Id(_) | Reference::Described { .. } | Reference::Spoken { .. } => false,
         }
     }
@@ -174,7 +260,11 @@ impl Reference {
     pub(super) fn indefinite(&self) -> bool {
         match self {
             Reference::Spoken { indefinite, .. } => *indefinite,
-            Reference::Narrowed { base, .. } => base.indefinite(),
+            Reference::Narrowed { base, .. }
+            | Reference::Related { base, .. }
+            | Reference::Most { base, .. }
+            | Reference::Nth { base, .. } => base.indefinite(),
+            Reference::Union { readings, .. } => readings.first().is_some_and(Reference::indefinite),
             Reference::Either { .. } => true,
             _ => false,
         }
@@ -186,6 +276,9 @@ impl Reference {
             Reference::Nothing { unplaced, .. } => unplaced.clone(),
             Reference::Narrowed { base, by, .. } => base.unplaced().or_else(|| by.unplaced()),
             Reference::Either { options, .. } => options.iter().find_map(Reference::unplaced),
+            Reference::Union { readings, .. } => readings.iter().find_map(Reference::unplaced),
+            Reference::Related { base, to, .. } => base.unplaced().or_else(|| to.unplaced()),
+            Reference::Most { base, .. } | Reference::Nth { base, .. } => base.unplaced(),
             _ => None,
         }
     }
@@ -210,6 +303,10 @@ impl Reference {
             | Reference::Pronoun { words }
             | Reference::Nothing { words, .. }
             | Reference::Either { words, .. }
+            | Reference::Union { words, .. }
+            | Reference::Related { words, .. }
+            | Reference::Most { words, .. }
+            | Reference::Nth { words, .. }
             | Reference::Narrowed { words, .. } => words.clone(),
         }
     }
@@ -219,7 +316,11 @@ impl Reference {
         match self {
             Reference::Described { kind: Some(k), .. } => Some(spoken(k)),
             Reference::Spoken { kinds, .. } => kinds.first().map(|k| spoken(k)),
-            Reference::Narrowed { base, .. } => base.noun(),
+            Reference::Narrowed { base, .. }
+            | Reference::Related { base, .. }
+            | Reference::Most { base, .. }
+            | Reference::Nth { base, .. } => base.noun(),
+            Reference::Union { readings, .. } => readings.first().and_then(Reference::noun),
             Reference::Either { options, .. } => {
                 let nouns: Vec<Option<String>> = options.iter().map(Reference::noun).collect();
                 nouns
@@ -249,6 +350,9 @@ pub(super) struct Slot {
     pub(super) noun: String,
     /// Words of the slot's reference that could not be placed at all ("pls").
     pub(super) unplaced: Option<String>,
+    /// What the scene could not tell, when that is why nothing matches ("I cannot tell which
+    /// box is the biggest: …").
+    pub(super) untold: Option<String>,
 }
 
 /// How one choice of candidates, one per slot, becomes an action.
@@ -289,14 +393,16 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
     }
 }
 
-/// The slot of one reference: every object of the scene it matches.
-pub(super) fn slot(reference: &Reference, scene: &Scene) -> Slot {
-    let candidates: Vec<(Term, f64)> = (scene.objects.iter())
-        .filter(|o| reference.matches(o))
-        .map(|o| (Term::Const(o.id.clone()), 1.0))
+/// The slot of one reference: every object of the scene it matches, in scene order. Past the
+/// deadline it is left empty; the caller asks the deadline before reading an empty slot.
+pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> bool) -> Slot {
+    let selected = reference.select(scene, expired).unwrap_or_default();
+    let candidates: Vec<(Term, f64)> = (selected.objects.iter())
+        .map(|&i| (Term::Const(scene.objects[i].id.clone()), 1.0))
         .collect();
     let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
     Slot {
+        untold: selected.untold.filter(|_| candidates.is_empty()),
         candidates,
         words: reference.words(scene),
         noun,
@@ -304,15 +410,22 @@ pub(super) fn slot(reference: &Reference, scene: &Scene) -> Slot {
     }
 }
 
-pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a>, Vec<Slot>) {
+pub(super) fn slots<'a>(
+    directive: &'a Directive,
+    scene: &Scene,
+    expired: &dyn Fn() -> bool,
+) -> (Template<'a>, Vec<Slot>) {
     match directive {
         Directive::Action { verb, arguments, .. } => {
-            let slots = arguments.iter().map(|reference| slot(reference, scene)).collect();
+            let slots = arguments
+                .iter()
+                .map(|reference| slot(reference, scene, expired))
+                .collect();
             (Template::Verb(Sym::from(verb.as_str())), slots)
         }
         // A task's slots are made with its shape (`Task::shape`), which its readings need too.
         Directive::Task(task) => {
-            let (shape, slots, _) = task.shape(scene);
+            let (shape, slots, _) = task.shape(scene, expired);
             (Template::Task(Box::new(shape)), slots)
         }
         // Words are read into an action before anything is resolved; unread, they name nothing.
@@ -323,6 +436,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                 words: text.clone(),
                 noun: "one".to_owned(),
                 unplaced: None,
+                untold: None,
             }],
         ),
         Directive::Form { action, bindings } => {
@@ -345,6 +459,7 @@ pub(super) fn slots<'a>(directive: &'a Directive, scene: &Scene) -> (Template<'a
                         words: variable.to_string(),
                         noun,
                         unplaced: None,
+                        untold: None,
                     }
                 })
                 .collect();
@@ -380,14 +495,15 @@ pub(super) fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
     }
 }
 
-/// Whether an object the answer names is this candidate.
-fn answer_names(answer: &Answer, value: &Term, scene: &Scene) -> bool {
-    let Some(object) = value.name().and_then(|id| scene.object(id)) else {
+/// Whether an object the answer names is this candidate; `named`: the objects (by index) an
+/// answer that is a reference selects.
+fn answer_names(answer: &Answer, named: &[bool], value: &Term, scene: &Scene) -> bool {
+    let Some(index) = value.name().and_then(|id| scene.index_of(id)) else {
         return false;
     };
     match answer {
-        Answer::Id(id) => object.id == id.as_str(),
-        Answer::Reference(reference) => reference.matches(object),
+        Answer::Id(id) => scene.objects[index].id == id.as_str(),
+        Answer::Reference(_) => named[index],
         Answer::Choice(_) | Answer::Yes | Answer::No | Answer::Cancel(_) | Answer::Directive(_) | Answer::Words(_) => {
             true
         }
@@ -404,14 +520,20 @@ pub(super) struct Narrowed {
 }
 
 impl Narrowed {
-    pub(super) fn new(answer: &Answer, slots: &[Slot], scene: &Scene) -> Narrowed {
+    pub(super) fn new(answer: &Answer, slots: &[Slot], scene: &Scene, expired: &dyn Fn() -> bool) -> Narrowed {
+        let mut selected = vec![false; scene.objects.len()];
+        if let Answer::Reference(reference) = answer {
+            for i in reference.select(scene, expired).unwrap_or_default().objects {
+                selected[i] = true;
+            }
+        }
         let (named, others) = slots
             .iter()
             .map(|s| {
                 s.candidates
                     .iter()
                     .cloned()
-                    .partition(|(t, _)| answer_names(answer, t, scene))
+                    .partition(|(t, _)| answer_names(answer, &selected, t, scene))
             })
             .unzip();
         Narrowed { named, others }

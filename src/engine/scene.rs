@@ -19,6 +19,7 @@ use super::input::{Invalid, RequestLimits, constant, finite, pointer_segment, po
 use super::term::{Sym, Term};
 
 mod facts;
+pub mod relate;
 mod spoken;
 
 use spoken::names_of;
@@ -39,6 +40,9 @@ pub struct Agent {
     /// Radius, metres, of the ball the gripper sweeps from `position` to an object; `None`:
     /// clearance is not checked.
     pub gripper_size: Option<f64>,
+    /// Unit quaternion `[x, y, z, w]` turning the agent's point of view (x forward, y left, z
+    /// up) into the world frame; `None` is the identity. Left and right are said from it.
+    pub rotation: Option<[f64; 4]>,
 }
 
 /// An object's shape, in its own frame, centred on the object's `position`.
@@ -126,6 +130,8 @@ pub struct Scene {
     /// Leaves are numbered 0.. in that order, never by object index: parry's builder assumes
     /// leaves 0 and 1 when it is given one or two, and panics on a scene like [point, ball].
     bvh: OnceLock<(Bvh, Vec<usize>)>,
+    /// Every object's box and the relations facts state, built at the first relation asked.
+    layout: OnceLock<relate::Layout>,
 }
 
 /// The agent as a request describes it, before it is checked.
@@ -138,6 +144,7 @@ pub struct AgentInput {
     pub gripper_aperture: Option<f64>,
     pub payload: Option<f64>,
     pub gripper_size: Option<f64>,
+    pub rotation: Option<[f64; 4]>,
 }
 
 /// An object as a request describes it, before it is checked; attribute values already as text.
@@ -212,8 +219,25 @@ impl Agent {
             gripper_aperture: input.gripper_aperture,
             payload: input.payload,
             gripper_size: input.gripper_size,
+            rotation: unit_rotation(input.rotation)?,
         })
     }
+}
+
+/// A rotation as given, normalised; one whose norm is off by more than a thousandth is refused.
+fn unit_rotation(rotation: Option<[f64; 4]>) -> Result<Option<[f64; 4]>, Invalid> {
+    let Some(q) = rotation else {
+        return Ok(None);
+    };
+    finite("/rotation", &q)?;
+    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() > 1e-3 {
+        return Err(Invalid::new(
+            "/rotation",
+            format!("must be a unit quaternion [x,y,z,w]; its norm is {norm}"),
+        ));
+    }
+    Ok(Some(q.map(|c| c / norm)))
 }
 
 impl Object {
@@ -234,20 +258,7 @@ impl Object {
             .shape
             .map(|s| s.checked().map_err(|e| e.within("/shape")))
             .transpose()?;
-        let rotation = match o.rotation {
-            None => None,
-            Some(q) => {
-                finite("/rotation", &q)?;
-                let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-                if (norm - 1.0).abs() > 1e-3 {
-                    return Err(Invalid::new(
-                        "/rotation",
-                        format!("must be a unit quaternion [x,y,z,w]; its norm is {norm}"),
-                    ));
-                }
-                Some(q.map(|c| c / norm))
-            }
-        };
+        let rotation = unit_rotation(o.rotation)?;
         if let Some(mass) = o.mass
             && !(mass.is_finite() && mass >= 0.0)
         {
@@ -324,6 +335,7 @@ impl Scene {
             reach_cache,
             clearance_cache,
             bvh: OnceLock::new(),
+            layout: OnceLock::new(),
         }
     }
 
@@ -366,6 +378,16 @@ impl Scene {
                 .unzip();
             (Bvh::from_leaves(BvhBuildStrategy::default(), &boxes), objects)
         })
+    }
+
+    /// Where the objects stand to one another; built once per request, at the first asking.
+    pub fn layout(&self) -> &relate::Layout {
+        self.layout.get_or_init(|| relate::Layout::build(self))
+    }
+
+    /// The agent's point of view.
+    pub fn frame(&self) -> relate::Frame {
+        relate::Frame::of(self.agent.rotation)
     }
 
     /// Objects of the given type other than `id`, in scene order.
@@ -628,6 +650,7 @@ mod tests {
             gripper_aperture: None,
             payload: None,
             gripper_size: Some(0.05),
+            rotation: None,
         };
         let named = |id: &str, position: [f64; 3], shape: Option<Shape>| Object {
             id: id.into(),

@@ -528,10 +528,13 @@ fn diarc(plan: &Plan, all: &[Interpretation], describer: &mut Describer<'_>) -> 
 /// What the robot says when the human takes back what was asked; the same in both styles.
 const CANCELLED: &str = "Okay, I will not.";
 
-/// When words of a reference could not be placed at all, the robot says which, in both styles:
+/// When words of a reference could not be placed at all, the robot says which, in both styles
+/// (else what the scene could not tell, if that is why):
 /// "I can't find the mug pls" would claim it looked for a "mug pls".
 fn unplaced_words(unfound: &[Unfound]) -> Option<String> {
-    let u = unfound.iter().find(|u| u.unplaced.is_some())?;
+    let Some(u) = unfound.iter().find(|u| u.unplaced.is_some()) else {
+        return unfound.iter().find_map(|u| u.untold.clone());
+    };
     let unplaced = u.unplaced.as_deref()?;
     Some(format!("I do not understand \"{unplaced}\" in \"{}\".", u.words))
 }

@@ -81,12 +81,12 @@ impl Task {
     /// The slots of the task's references, and how each step's arguments and each purpose's
     /// name them. An `Earlier` argument must name an earlier step's existing argument (the
     /// constructors check it; here it is trusted).
-    pub(super) fn shape(&self, scene: &Scene) -> (Shape, Vec<Slot>, Vec<Slot>) {
+    pub(super) fn shape(&self, scene: &Scene, expired: &dyn Fn() -> bool) -> (Shape, Vec<Slot>, Vec<Slot>) {
         let mut slots = Vec::new();
         let mut steps: Vec<(Sym, Vec<usize>)> = Vec::with_capacity(self.steps.len());
         let place = |argument: &Argument, steps: &[(Sym, Vec<usize>)], slots: &mut Vec<Slot>| match argument {
             Argument::Reference(reference) => {
-                slots.push(slot(reference, scene));
+                slots.push(slot(reference, scene, expired));
                 slots.len() - 1
             }
             Argument::Earlier { step, argument } => steps[*step].1[*argument],
@@ -111,7 +111,7 @@ impl Task {
                 arguments: (p.arguments.iter())
                     .map(|a| match a {
                         Argument::Reference(reference) => {
-                            let found = slot(reference, scene);
+                            let found = slot(reference, scene, expired);
                             let objects = found.candidates.iter().map(|(t, _)| t.clone()).collect();
                             purpose_slots.push(found);
                             PurposeArgument::Objects(objects)

@@ -108,6 +108,9 @@ pub struct StepArgumentBody {
     pub attributes: Option<BTreeMap<String, Scalar>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub properties: Option<Vec<String>>,
+    /// Relations to other objects, as a reference's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub relations: Vec<RelationBody>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -125,6 +128,22 @@ pub struct ReferenceBody {
     pub attributes: Option<BTreeMap<String, Scalar>>,
     #[serde(default)]
     pub properties: Option<Vec<String>>,
+    /// Relations the object must stand in: `[{"relation": "on", "to": {"type": "table"}}]`
+    /// is "the … on the table". Nested through `to`; at most 8 in all.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub relations: Vec<RelationBody>,
+}
+
+/// A relation to a landmark: `on`, `in`, `under`, `near`, `left_of`, `right_of`, `behind`,
+/// `in_front_of` (stated in `scene.facts` or decided by the objects' boxes), or `from` (on
+/// or in).
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RelationBody {
+    pub relation: String,
+    /// The landmark, a reference of its own.
+    #[schema(no_recursion)]
+    pub to: Box<ReferenceBody>,
 }
 
 /// A candidate from an upstream resolver: an object id, or an id with a score.
@@ -183,6 +202,11 @@ pub struct AgentBody {
     /// is not checked.
     #[serde(default)]
     pub gripper_size: Option<f64>,
+    /// Unit quaternion `[x, y, z, w]` turning the agent's point of view (x forward, y left, z
+    /// up) into the world frame; absent: x forward. "Left of" and "the leftmost" are said from it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(min_items = 4, max_items = 4)]
+    pub rotation: Option<[f64; 4]>,
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -330,6 +354,7 @@ impl From<StepArgumentBody> for StepArgumentInput {
                 kind: a.kind,
                 attributes: a.attributes.map(texts),
                 properties: a.properties,
+                relations: relations(a.relations),
             },
             step: a.step,
             argument: a.argument,
@@ -344,8 +369,15 @@ impl From<ReferenceBody> for ReferenceInput {
             kind: r.kind,
             attributes: r.attributes.map(texts),
             properties: r.properties,
+            relations: relations(r.relations),
         }
     }
+}
+
+fn relations(relations: Vec<RelationBody>) -> Vec<(String, ReferenceInput)> {
+    (relations.into_iter())
+        .map(|r| (r.relation, ReferenceInput::from(*r.to)))
+        .collect()
 }
 
 fn texts(attributes: BTreeMap<String, Scalar>) -> BTreeMap<String, String> {
@@ -362,6 +394,7 @@ impl From<SceneBody> for SceneInput {
                 gripper_aperture: s.agent.gripper_aperture,
                 payload: s.agent.payload,
                 gripper_size: s.agent.gripper_size,
+                rotation: s.agent.rotation,
             },
             objects: s.objects.into_iter().map(Into::into).collect(),
             facts: s.facts,

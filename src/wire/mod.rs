@@ -20,7 +20,7 @@ pub use check::{CheckBody, CheckDto, CheckOptionsBody, StepCheckDto};
 pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
     ObjectBody, OptionsBody, ParseDto, PronounParseDto, PurposeParseDto, ReasonDto, ReferenceBody, ReferenceParseDto,
-    Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
+    RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
 };
 pub use norms::{
     AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto, NormSetImportSchema, NormSetObject,

@@ -32,6 +32,22 @@ fn numbers(v: &Value) -> Vec<f64> {
         .unwrap_or_default()
 }
 
+/// A reference in JSON as its message, relations and all.
+fn reference(r: &Value) -> pb::Reference {
+    pb::Reference {
+        id: opt(&r["id"]),
+        r#type: opt(&r["type"]),
+        attributes: string_map(&r["attributes"]),
+        properties: strings(&r["properties"]),
+        relations: (r["relations"].as_array().into_iter().flatten())
+            .map(|rel| pb::Relation {
+                relation: rel["relation"].as_str().unwrap_or_default().to_owned(),
+                to: rel.get("to").map(reference),
+            })
+            .collect(),
+    }
+}
+
 fn string_map(v: &Value) -> HashMap<String, String> {
     v.as_object()
         .map(|m| {
@@ -112,16 +128,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             action: opt(&directive["action"]),
             arguments: directive["arguments"]
                 .as_array()
-                .map(|args| {
-                    args.iter()
-                        .map(|r| pb::Reference {
-                            id: opt(&r["id"]),
-                            r#type: opt(&r["type"]),
-                            attributes: string_map(&r["attributes"]),
-                            properties: strings(&r["properties"]),
-                        })
-                        .collect()
-                })
+                .map(|args| args.iter().map(reference).collect())
                 .unwrap_or_default(),
             form: opt(&directive["form"]),
             bindings,
@@ -140,6 +147,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                                     r#type: opt(&a["type"]),
                                     attributes: string_map(&a["attributes"]),
                                     properties: strings(&a["properties"]),
+                                    relations: reference(a).relations,
                                     step: a["step"].as_u64(),
                                     argument: a["argument"].as_u64(),
                                 })
@@ -158,6 +166,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                 gripper_aperture: scene["agent"]["gripper_aperture"].as_f64(),
                 payload: scene["agent"]["payload"].as_f64(),
                 gripper_size: scene["agent"]["gripper_size"].as_f64(),
+                rotation: numbers(&scene["agent"]["rotation"]),
             }),
             objects,
             facts: strings(&scene["facts"]),
@@ -177,12 +186,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
         answer: body.get("answer").map(|a| pb::Answer {
             choice: a["choice"].as_u64(),
             id: opt(&a["id"]),
-            reference: a.get("reference").map(|r| pb::Reference {
-                id: opt(&r["id"]),
-                r#type: opt(&r["type"]),
-                attributes: string_map(&r["attributes"]),
-                properties: strings(&r["properties"]),
-            }),
+            reference: a.get("reference").map(reference),
             text: opt(&a["text"]),
         }),
         focus: strings(&body["focus"]),

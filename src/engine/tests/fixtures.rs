@@ -12,6 +12,7 @@ pub(super) fn agent() -> Agent {
         gripper_aperture: None,
         payload: None,
         gripper_size: None,
+        rotation: None,
     }
 }
 

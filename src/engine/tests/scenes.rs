@@ -15,6 +15,7 @@ fn input(ids: &[String]) -> SceneInput {
             gripper_aperture: None,
             payload: None,
             gripper_size: None,
+            rotation: None,
         },
         objects: (ids.iter())
             .map(|id| ObjectInput {

@@ -268,6 +268,7 @@ impl Case {
             gripper_aperture: aperture.then_some(0.1),
             payload: payload.then_some(1.0),
             gripper_size: size.then_some(0.02),
+            rotation: None,
             ..agent()
         };
         Scene::new(agent, objects, Vec::new())

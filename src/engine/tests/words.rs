@@ -24,9 +24,8 @@ pub(super) fn read(text: &str, scene: &Scene) -> Result<Read, (Unclear, String)>
             let candidates = arguments
                 .iter()
                 .map(|r| {
-                    (scene.objects.iter())
-                        .filter(|o| r.matches(o))
-                        .map(|o| o.id.to_string())
+                    (r.select(scene, &|| false).expect("no deadline").objects.iter())
+                        .map(|&i| scene.objects[i].id.to_string())
                         .collect()
                 })
                 .collect();

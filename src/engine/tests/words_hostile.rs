@@ -43,7 +43,8 @@ fn trailing_words_that_narrow_or_negate_are_never_an_addressee_or_left_out() {
         "Get the notebook for me, not the red one.",
         "Get the cup, don't.",
         "Get the cup not the red one.",
-        "Get the cup to the right of the fork.",
+        // The cup is to the right of the fork (seen from the agent): read, not dropped.
+        "Get the cup to the left of the fork.",
         "Get the cup, the ★ one.",
         "Get the cup, not the ★ one.",
     ] {
@@ -337,6 +338,7 @@ fn names_with_combining_marks_are_letters_and_an_ordinal_after_which_is_explaine
             gripper_aperture: None,
             payload: None,
             gripper_size: None,
+            rotation: None,
         },
         objects: vec![ObjectInput {
             id: "m1".into(),

@@ -20,8 +20,9 @@
 
 use std::borrow::Cow;
 
-use super::lexicon::{Lexicon, Noun, inflects};
+use super::lexicon::{Lexicon, inflects};
 use super::purpose::{Purposed, need_at, purpose_at, read_purpose};
+pub(super) use super::reference::{reference, reference_or_adjectives};
 use super::steps::{
     COMMA, Clause, assemble, comma_segments, listed, split_clauses, topic, with_commas, without_commas,
 };
@@ -32,13 +33,8 @@ use super::{Phrase, Understanding};
 use crate::engine::action::VerbPhrase;
 use crate::engine::action::verb_name;
 use crate::engine::decision::{Act, Unclear};
-use crate::engine::describe::after_the_noun;
-use crate::engine::resolve::{Reference, Sense};
+use crate::engine::resolve::Reference;
 use crate::engine::task::MAX_STEPS;
-
-/// The most words of a reference after its last noun said back as not understood; a longer
-/// tail is reported as the whole reference.
-const MAX_UNPLACED_TAIL: usize = 12;
 
 /// Whether `word` is one the grammar reads as itself (a determiner, a pronoun, a frame, a
 /// question, a negation, a manner word, a joiner of steps): it cannot be the first word of a
@@ -444,28 +440,6 @@ fn clause(
     })
 }
 
-/// `base` narrowed inside one reference by a relative clause or an exclusion: what `by` names
-/// must (`keep`) or must not be true of the object. Words after the clause that name nothing
-/// make it match nothing, as in a narrowing set off by a comma.
-fn excluded(base: Phrase, by: Phrase, keep: bool, words: String) -> Phrase {
-    let by = match by.words.is_empty() {
-        true => Reference::Nothing {
-            words: String::new(),
-            unplaced: Some(words.clone()),
-        },
-        false => by.reference,
-    };
-    Phrase {
-        reference: Reference::Narrowed {
-            base: Box::new(base.reference),
-            by: Box::new(by),
-            keep,
-            words: words.clone(),
-        },
-        words,
-    }
-}
-
 /// A phrase that names nothing, held while the one in its place is rebuilt.
 fn placeholder() -> Phrase {
     Phrase {
@@ -495,27 +469,6 @@ fn narrowed(base: Phrase, narrowing: Narrowing, lexicon: &Lexicon) -> Phrase {
             words: words.clone(),
         },
         words,
-    }
-}
-
-/// A reference, or, where it has no noun, adjectives alone: "red" is what is red.
-pub(super) fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Phrase {
-    let phrase = reference(words, lexicon);
-    if !matches!(phrase.reference, Reference::Nothing { .. }) || words.is_empty() {
-        return phrase;
-    }
-    match adjectives(words, lexicon) {
-        Some(adjectives) => Phrase {
-            reference: Reference::Spoken {
-                kinds: Vec::new(),
-                named: Vec::new(),
-                adjectives,
-                words: phrase.words.clone(),
-                indefinite: false,
-            },
-            words: phrase.words,
-        },
-        None => phrase,
     }
 }
 
@@ -551,146 +504,4 @@ pub(super) fn split_particle(rest: &[String], phrase: &VerbPhrase) -> Vec<String
         rest.drain(i..i + particles.len());
     }
     rest
-}
-
-/// One reference's words. Every word must be placed, as determiner, adjective or noun; one
-/// that is not makes the reference match nothing, and one the grammar could not place at all
-/// is said back ("pls" in "the mug pls").
-pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
-    let words = span.join(" ");
-    // "the mug or the cup": any one of them will do.
-    if span.len() > 2 && span[1..span.len() - 1].iter().any(|w| w == "or") {
-        let options: Vec<Reference> = (span.split(|w| w == "or"))
-            .map(|part| match part.is_empty() {
-                true => Reference::Nothing {
-                    words: String::new(),
-                    unplaced: Some("or".to_owned()),
-                },
-                false => reference(part, lexicon).reference,
-            })
-            .collect();
-        return Phrase {
-            reference: Reference::Either {
-                options,
-                words: words.clone(),
-            },
-            words,
-        };
-    }
-    // "the mug that is not red", "the mug which is red": a relative clause of adjectives;
-    // "any cup but (except, other than) the blue one": every match less what follows.
-    if let Some(at) = (1..span.len().saturating_sub(2))
-        .find(|&i| ["that", "which"].contains(&span[i].as_str()) && span[i + 1] == "is")
-    {
-        let negated = span[at + 2] == "not";
-        let by = reference_or_adjectives(&span[at + 2 + usize::from(negated)..], lexicon);
-        return excluded(reference(&span[..at], lexicon), by, !negated, words);
-    }
-    if let Some((at, n)) = (1..span.len()).find_map(|i| match span[i].as_str() {
-        "but" | "except" => Some((i, 1)),
-        "other" if span.get(i + 1).is_some_and(|w| w == "than") => Some((i, 2)),
-        _ => None,
-    }) {
-        let by = reference_or_adjectives(&span[at + n..], lexicon);
-        return excluded(reference(&span[..at], lexicon), by, false, words);
-    }
-    if span.len() == 1 && PRONOUNS.contains(&span[0].as_str())
-        || span.len() == 2 && ["this", "that"].contains(&span[0].as_str()) && span[1] == "one"
-    {
-        return Phrase {
-            reference: Reference::Pronoun { words: words.clone() },
-            words,
-        };
-    }
-    let body = match span.first() {
-        Some(first) if DETERMINERS.contains(&first.as_str()) => &span[1..],
-        _ => span,
-    };
-    let reference = match described(body, lexicon) {
-        Some((noun, adjectives)) => Reference::Spoken {
-            kinds: noun.kinds,
-            named: noun.named,
-            adjectives,
-            words: words.clone(),
-            indefinite: ["a", "an", "any"].contains(&span[0].as_str()),
-        },
-        None => Reference::Nothing {
-            words: words.clone(),
-            unplaced: unplaced(body, lexicon),
-        },
-    };
-    Phrase { reference, words }
-}
-
-/// `body` (a reference without its determiner) as adjectives and a head noun (or "one"), if
-/// every word is placed; "the one" alone names nothing.
-fn described(body: &[String], lexicon: &Lexicon) -> Option<(Noun, Vec<Vec<Sense>>)> {
-    if let Some(found) = described_before(body, lexicon) {
-        return Some(found);
-    }
-    // "the book on floor": a property that is a phrase, after the noun, as the robot speaks it.
-    let shortest = body.len().saturating_sub(MAX_UNPLACED_TAIL).max(1);
-    (shortest..body.len()).rev().find_map(|end| {
-        if !after_the_noun(&body[end..].join(" ")) {
-            return None;
-        }
-        let (noun, mut before) = described_before(&body[..end], lexicon)?;
-        before.extend(adjectives(&body[end..], lexicon)?);
-        Some((noun, before))
-    })
-}
-
-/// `body` as adjectives before a head noun (or "one").
-fn described_before(body: &[String], lexicon: &Lexicon) -> Option<(Noun, Vec<Vec<Sense>>)> {
-    let (noun, head) = match body.last()?.as_str() {
-        "one" => (Noun::default(), 1),
-        _ => lexicon.head_noun(body)?,
-    };
-    let adjectives = adjectives(&body[..body.len() - head], lexicon)?;
-    if noun == Noun::default() && adjectives.is_empty() {
-        return None;
-    }
-    Some((noun, adjectives))
-}
-
-/// Every word of `words` placed as an adjective (the longest known phrase first), or `None`.
-fn adjectives(words: &[String], lexicon: &Lexicon) -> Option<Vec<Vec<Sense>>> {
-    let mut adjectives = Vec::new();
-    let mut i = 0;
-    while i < words.len() {
-        if lexicon.expired() {
-            return None;
-        }
-        let (senses, n) = lexicon.adjective_at(&words[i..])?;
-        adjectives.push(senses);
-        i += n;
-    }
-    Some(adjectives)
-}
-
-/// The words of a reference that failed which the grammar could not place at all: those after
-/// a complete reference ("pls" in "the mug pls", "to the right of the fork"), else a word it
-/// knows as a shape it does not read yet ("second", "mugs"). `None` when every word was
-/// understood as what it could be and the scene has nothing so described ("the wet mug").
-fn unplaced(body: &[String], lexicon: &Lexicon) -> Option<String> {
-    let shortest = body.len().saturating_sub(MAX_UNPLACED_TAIL).max(1);
-    for end in (shortest..body.len()).rev() {
-        if lexicon.expired() {
-            return None;
-        }
-        if described(&body[..end], lexicon).is_some() {
-            return Some(body[end..].join(" "));
-        }
-    }
-    // "it back": a pronoun with words after it that place nothing.
-    if body.len() > 1 && PRONOUNS.contains(&body[0].as_str()) {
-        return Some(body[1..].join(" "));
-    }
-    let plural_of_known = |w: &String| {
-        (w.strip_suffix("es").into_iter().chain(w.strip_suffix('s')))
-            .any(|stem| !stem.is_empty() && lexicon.head_noun(&[stem.to_owned()]).is_some())
-    };
-    body.iter()
-        .find(|w| STRUCTURE.contains(&w.as_str()) || plural_of_known(w))
-        .cloned()
 }

@@ -318,6 +318,7 @@ mod tests {
                 gripper_aperture: None,
                 payload: None,
                 gripper_size: None,
+                rotation: None,
             },
             objects: (objects.into_iter().enumerate())
                 .map(|(i, (kind, properties, names))| ObjectInput {

@@ -11,6 +11,8 @@ mod answer;
 mod grammar;
 mod lexicon;
 mod purpose;
+mod reference;
+mod relations;
 mod steps;
 mod tokens;
 mod vocabulary;
@@ -103,9 +105,9 @@ impl Parse {
     /// reference's candidates, and a task's steps with how each pronoun was bound.
     pub fn understood(&self, speaker: &Term, scene: &Scene) -> Understood {
         let candidates = |reference: &Reference| -> Vec<String> {
-            (scene.objects.iter())
-                .filter(|o| reference.matches(o))
-                .map(|o| o.id.to_string())
+            // What the decision selected again, whole: a parse is shown once per answer.
+            (reference.select(scene, &|| false).unwrap_or_default().objects.iter())
+                .map(|&i| scene.objects[i].id.to_string())
                 .collect()
         };
         let references: Vec<ReferenceParse> = (self.references.iter())

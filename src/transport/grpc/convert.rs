@@ -13,8 +13,8 @@ use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
-    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, ReferenceParseDto, Scalar,
-    SceneBody, ShapeBody, StepArgumentBody, StepBody,
+    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, ReferenceParseDto,
+    RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody,
 };
 
 fn missing(field: &str) -> Error {
@@ -120,6 +120,7 @@ impl From<pb::Step> for StepBody {
                     attributes: (!a.attributes.is_empty())
                         .then(|| a.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
                     properties: (!a.properties.is_empty()).then_some(a.properties),
+                    relations: relations(a.relations),
                     step: a.step,
                     argument: a.argument,
                 })
@@ -137,8 +138,19 @@ impl From<pb::Reference> for ReferenceBody {
             attributes: (!r.attributes.is_empty())
                 .then(|| r.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
             properties: (!r.properties.is_empty()).then_some(r.properties),
+            relations: relations(r.relations),
         }
     }
+}
+
+/// A missing `to` is an empty reference, refused as one where the engine checks it.
+fn relations(relations: Vec<pb::Relation>) -> Vec<RelationBody> {
+    (relations.into_iter())
+        .map(|r| RelationBody {
+            relation: r.relation,
+            to: Box::new(r.to.map(ReferenceBody::from).unwrap_or_default()),
+        })
+        .collect()
 }
 
 impl TryFrom<pb::Scene> for SceneBody {
@@ -160,6 +172,10 @@ impl TryFrom<pb::Scene> for SceneBody {
                 gripper_aperture: agent.gripper_aperture,
                 payload: agent.payload,
                 gripper_size: agent.gripper_size,
+                rotation: match agent.rotation.is_empty() {
+                    true => None,
+                    false => Some(fixed(|| "/scene/agent/rotation".to_owned(), agent.rotation)?),
+                },
             },
             objects,
             facts: scene.facts,
