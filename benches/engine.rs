@@ -1,6 +1,7 @@
 //! Engine benchmarks: the paper's "Get the vase." (structured and in words, and with 100 soft
 //! norms beside the paper's), reading the paper's sentence against the office, tasks of
-//! several steps (reading five, deciding two against one), readings ×
+//! several steps (reading five, deciding two against one), a reference with two relations
+//! against a plain one over 10,000 objects, readings ×
 //! objects × norms, checking a request's scene, and the cost of one world copy. `cargo bench --bench engine`; results in BENCHMARKS.md.
 //!
 //! The scene is built once per benchmark and reused, as the engine sees one per request: its
@@ -215,6 +216,54 @@ fn bench_tasks(c: &mut Criterion) {
     }
 }
 
+/// "the cup on the table next to the fork" against "the cup" over one scene of 10,000 objects:
+/// a table with a cup and a fork on it among 9,997 plates, books and spoons. Both name the one
+/// cup; the first reads two attachments of two relations and checks them against the scene.
+fn bench_relations(c: &mut Criterion) {
+    let norms = compile(&[]);
+    let library = Library::default_library();
+    let mut objects = vec![
+        json!({"id": "t1", "type": "table", "position": [0.6, 0.0, 0.4], "shape": {"cuboid": {"half_extents": [0.3, 0.5, 0.4]}}}),
+        json!({"id": "c1", "type": "cup", "position": [0.6, 0.1, 0.85], "shape": {"cylinder": {"radius": 0.04, "half_height": 0.05}}}),
+        json!({"id": "f1", "type": "fork", "position": [0.6, 0.2, 0.805], "shape": {"cuboid": {"half_extents": [0.08, 0.01, 0.005]}}}),
+    ];
+    for i in 0..9_997 {
+        let (x, y) = (2.0 + (i % 100) as f64 * 0.5, -25.0 + (i / 100) as f64 * 0.5);
+        let kind = ["plate", "book", "spoon"][i % 3];
+        objects.push(json!({"id": format!("o{i}"), "type": kind, "position": [x, y, 0.8],
+                            "shape": {"cuboid": {"half_extents": [0.1, 0.1, 0.02]}}}));
+    }
+    let scene = json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": objects});
+    let mut group = c.benchmark_group("relations");
+    group.sample_size(20);
+    for (name, text) in [
+        ("the_cup", "Get the cup."),
+        (
+            "the_cup_on_the_table_next_to_the_fork",
+            "Get the cup on the table next to the fork.",
+        ),
+    ] {
+        let body = json!({"directive": {"text": text}, "scene": scene});
+        let request = input(body.clone());
+        let decided = clarify(&request.request, &request.scene, &norms, &library, &|| false).unwrap();
+        assert_eq!(
+            decided.goal.as_ref().map(|g| g.to_string()).as_deref(),
+            Some("did(self,get(c1))"),
+            "{text}"
+        );
+        // A scene of its own each time: the boxes and their index are built once per request,
+        // and that is part of what a relation costs.
+        group.bench_function(name, |b| {
+            b.iter_batched(
+                || input(body.clone()),
+                |request| clarify(&request.request, &request.scene, &norms, &library, &|| false).unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
 fn bench_readings(c: &mut Criterion) {
     let norms = compile(&hundred_norms());
     let library = Library::default_library();
@@ -298,6 +347,7 @@ fn bench_world_copy(c: &mut Criterion) {
 criterion_group!(
     benches,
     bench_paper,
+    bench_relations,
     bench_tasks,
     bench_readings,
     bench_checking,

@@ -9,6 +9,8 @@ use std::sync::{Arc, OnceLock};
 
 use rustc_hash::FxHashMap;
 
+mod relational;
+
 use super::action::Library;
 use super::scene::{Object, Scene, spoken, spoken_onto};
 use super::term::{Sym, Term};
@@ -36,14 +38,53 @@ impl Feature<'_> {
     }
 }
 
-/// "the fragile vase", "the green notebook", "the mug (object5)": the object's type, preceded by
-/// each feature that rules out at least one remaining distractor (another object of its type),
-/// properties as listed and then attributes by key, in the order added; the id follows in
-/// parentheses when distractors remain.
+/// "the fragile vase", "the green notebook", "the mug on the table", "the left mug", "the mug
+/// (object5)": the object's type, preceded by each feature that rules out at least one
+/// remaining distractor (another object of its type), properties as listed and then attributes
+/// by key, in the order added; when distractors remain (in a scene of at most
+/// [`relational::UP_TO`] objects), one relation to a landmark, then a position; the id follows
+/// in parentheses only when distractors still remain.
 pub fn describe_object(scene: &Scene, object: &Object) -> String {
+    describe_told(scene, object).0
+}
+
+/// [`describe_object`], and whether a landmark or a position told the object apart.
+fn describe_told(scene: &Scene, object: &Object) -> (String, bool) {
     let others = || scene.same_kind(&object.kind, &object.id);
     let (text, distractors) = describe_among(object, others().count(), || others().collect());
-    with_id(text, distractors, object)
+    if distractors && scene.objects.len() <= relational::UP_TO {
+        let remaining = remaining_after(object, others().collect());
+        if let Some(told) = relational::tell_apart(scene, object, &remaining) {
+            let mut words = text;
+            if let Some(position) = told.position {
+                words.insert_str(3, &format!(" {position}"));
+            }
+            if let Some(relation) = told.relation {
+                words.push(' ');
+                words.push_str(&relation);
+            }
+            return (words, true);
+        }
+    }
+    (with_id(text, distractors, object), false)
+}
+
+/// The objects of `others` that have every feature of `object` the Incremental Algorithm says
+/// of it: those its words so far still match.
+fn remaining_after<'s>(object: &Object, mut others: Vec<&'s Object>) -> Vec<&'s Object> {
+    let features = (object.properties.iter().map(|p| Feature::Property(p)))
+        .chain(object.attributes.iter().map(|(k, v)| Feature::Attribute(k, v)));
+    for feature in features {
+        if others.is_empty() {
+            break;
+        }
+        let before = others.len();
+        let kept: Vec<&Object> = others.iter().copied().filter(|d| feature.holds_for(d)).collect();
+        if kept.len() < before {
+            others = kept;
+        }
+    }
+    others
 }
 
 /// The description, and the object's id after it when distractors remain.
@@ -213,6 +254,8 @@ pub struct Describer<'a> {
     /// The joiner the human said between this verb's arguments ("put the fork in the
     /// microwave"), spoken instead of the verb's own.
     said: Option<(Sym, String)>,
+    /// Whether a landmark or a position told an object described so far apart.
+    told: bool,
 }
 
 impl<'a> Describer<'a> {
@@ -225,6 +268,7 @@ impl<'a> Describer<'a> {
             looks: FxHashMap::default(),
             alone: Vec::new(),
             said: None,
+            told: false,
         }
     }
 
@@ -239,11 +283,17 @@ impl<'a> Describer<'a> {
             looks: FxHashMap::default(),
             alone: self.alone.clone(),
             said: self.said.clone(),
+            told: false,
         }
     }
 
     pub fn scene(&self) -> &'a Scene {
         self.scene
+    }
+
+    /// Whether a landmark or a position told apart an object this describer described.
+    pub fn told_apart(&self) -> bool {
+        self.told
     }
 
     /// Speaks `joiner` between `verb`'s arguments from now on, as the human said it.
@@ -257,13 +307,25 @@ impl<'a> Describer<'a> {
         self.alone = objects;
     }
 
-    /// `words` (an object's description) as spoken: without its id when the object is alone.
+    /// `words` (an object's description) as spoken: when the object is alone, by its type and
+    /// features only (without the id, landmark or position that told it from the others).
     fn push_spoken(&self, name: &Sym, words: &str, out: &mut String) {
-        let kept = match self.alone.contains(name) {
-            true => words.strip_suffix(&format!(" ({name})")).unwrap_or(words),
-            false => words,
-        };
-        out.push_str(kept);
+        if !self.alone.contains(name) {
+            out.push_str(words);
+            return;
+        }
+        match words.strip_suffix(&format!(" ({name})")) {
+            Some(plain) => out.push_str(plain),
+            None => out.push_str(self.plain(name).as_deref().unwrap_or(words)),
+        }
+    }
+
+    /// The object's description by its type and features only, as the Incremental Algorithm
+    /// gives it: no id, landmark or position.
+    pub fn plain(&self, id: &str) -> Option<String> {
+        let object = self.scene.object(id)?;
+        let others = || self.scene.same_kind(&object.kind, &object.id);
+        Some(describe_among(object, others().count(), || others().collect()).0)
     }
 
     /// An argument in words: an object of the scene by its description, another constant as
@@ -289,7 +351,9 @@ impl<'a> Describer<'a> {
             return;
         };
         let words = if self.scene.objects.len() <= SCAN_KINDS {
-            describe_object(self.scene, object)
+            let (words, told) = describe_told(self.scene, object);
+            self.told |= told;
+            words
         } else {
             let scene = self.scene;
             let kinds = self.kinds.get_or_init(|| {

@@ -24,6 +24,7 @@ mod observability;
 mod openapi;
 mod paper_demo;
 mod playground;
+mod references;
 mod replicas;
 mod soft;
 #[path = "../support/mod.rs"]

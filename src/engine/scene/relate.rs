@@ -10,6 +10,8 @@ use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Point, Real};
 use parry3d::na::{Quaternion, UnitQuaternion, Vector3};
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
+use std::sync::OnceLock;
+
 use rustc_hash::FxHashSet;
 
 use super::{Object, Scene, Shape};
@@ -24,6 +26,10 @@ pub const SIDE_MARGIN: f64 = 0.05;
 pub const SIDE_GAP: f64 = 1.0;
 /// Superlatives: values within this share of the best tie with it.
 pub const TIE_SHARE: f64 = 0.05;
+
+/// A relation whose smaller side has at most this many objects on its other side is checked
+/// pair by pair; a larger one asks the index of the boxes.
+const PAIRS: usize = 64;
 
 /// A relation between two objects, as the contract names it in facts and structured requests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -291,8 +297,9 @@ fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 #[derive(Debug)]
 pub struct Layout {
     boxes: Vec<Box3>,
-    /// Leaf i is object i; boxes widened to single precision outward.
-    index: Bvh,
+    /// Leaf i is object i; boxes widened to single precision outward. Built at the first
+    /// relation whose two sides are both too many to pair up.
+    index: OnceLock<Bvh>,
     /// `(relation, a, b)` for each fact `relation(a,b)` between two objects of the scene.
     stated: FxHashSet<(Relation, usize, usize)>,
     /// The same, listed per relation in the order given, for walking them.
@@ -302,8 +309,6 @@ pub struct Layout {
 impl Layout {
     pub(super) fn build(scene: &Scene) -> Layout {
         let boxes: Vec<Box3> = scene.objects.iter().map(world_box).collect();
-        let leaves: Vec<Aabb> = boxes.iter().map(single).collect();
-        let index = Bvh::from_leaves(BvhBuildStrategy::default(), &leaves);
         let mut stated = FxHashSet::default();
         let mut listed = Vec::new();
         for fact in &scene.facts {
@@ -323,7 +328,7 @@ impl Layout {
         }
         Layout {
             boxes,
-            index,
+            index: OnceLock::new(),
             stated,
             listed,
         }
@@ -331,6 +336,13 @@ impl Layout {
 
     pub fn boxes(&self) -> &[Box3] {
         &self.boxes
+    }
+
+    fn index(&self) -> &Bvh {
+        self.index.get_or_init(|| {
+            let leaves: Vec<Aabb> = self.boxes.iter().map(single).collect();
+            Bvh::from_leaves(BvhBuildStrategy::default(), &leaves)
+        })
     }
 
     /// Whether `relation(a,b)` holds for objects `a` and `b` (indices): stated, or so by the
@@ -388,7 +400,11 @@ impl Layout {
             }
         }
         let by_subject = subjects.len() <= landmarks.len();
-        let walked = if by_subject { subjects } else { landmarks };
+        let (walked, other) = if by_subject {
+            (subjects, landmarks)
+        } else {
+            (landmarks, subjects)
+        };
         for (k, &x) in walked.iter().enumerate() {
             if k % 64 == 0 && expired() {
                 return None;
@@ -396,8 +412,8 @@ impl Layout {
             if by_subject && kept[x] {
                 continue;
             }
-            for leaf in self.index.intersect_aabb(&self.reach_of(x, relation)) {
-                let y = leaf as usize;
+            // Whether the pair (x, y) settles x, so that nothing more is asked about it.
+            let mut settles = |y: usize| {
                 let (a, b) = if by_subject { (x, y) } else { (y, x) };
                 let wanted = if by_subject {
                     is_landmark[b]
@@ -406,13 +422,45 @@ impl Layout {
                 };
                 if wanted && a != b && self.geometry(scene, relation, a, b) {
                     kept[a] = true;
-                    if by_subject {
+                    return by_subject;
+                }
+                false
+            };
+            if other.len() <= PAIRS {
+                for &y in other {
+                    if settles(y) {
+                        break;
+                    }
+                }
+            } else {
+                for leaf in self.index().intersect_aabb(&self.reach_of(x, relation)) {
+                    if settles(leaf as usize) {
                         break;
                     }
                 }
             }
         }
         Some(subjects.iter().copied().filter(|&i| kept[i]).collect())
+    }
+
+    /// The objects that object `a` stands in `relation` to, ascending.
+    pub fn landmarks_of(&self, scene: &Scene, a: usize, relation: Relation) -> Vec<usize> {
+        let mut out: Vec<usize> = (self.listed.iter())
+            .filter(|(r, x, b)| relation.stated_as().contains(r) && *x == a && *b != a)
+            .map(|(_, _, b)| *b)
+            .collect();
+        for b in self
+            .index()
+            .intersect_aabb(&self.reach_of(a, relation))
+            .map(|leaf| leaf as usize)
+        {
+            if b != a && self.geometry(scene, relation, a, b) {
+                out.push(b);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// The box that any object standing in `relation` with object `x` (either way round)

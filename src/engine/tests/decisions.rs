@@ -142,14 +142,15 @@ fn single_candidates_unresolved_references_and_strategies() {
 
 /// Issue 50, §2: "I'll get the cup (cup1)." An id is spoken only where nothing else in the
 /// answer tells its object apart: not when the reading's object is the only one of its type the
-/// answer names. The readings' descriptions keep it, as the contract describes them.
+/// answer names. The readings' descriptions keep it, as the contract describes them. The twins
+/// stand at one spot, so that no landmark or position tells them apart either.
 #[test]
 fn an_id_is_spoken_only_where_the_answer_needs_it() {
     let twins = || {
         scene(
             vec![
                 obj("cup1", "cup", &[], &[], [0.5, 0.0, 0.8], None),
-                obj("cup2", "cup", &[], &[], [0.5, 0.1, 0.8], None),
+                obj("cup2", "cup", &[], &[], [0.5, 0.0, 0.8], None),
                 obj("cup3", "cup", &[], &[], [3.5, 0.1, 0.8], None),
             ],
             &[],

@@ -151,7 +151,7 @@ fn feasibility_cases() {
             ),
         ),
         case(
-            "one of two mugs out of reach: assume the other, explain with its id",
+            "one of two mugs out of reach: assume the other, each told apart by a landmark or a position",
             lab_with(|objects| {
                 objects.push(obj("object6", "mug", &[], &[], [3.0, 0.0, 0.8], mug_shape()));
             }),
@@ -160,13 +160,13 @@ fn feasibility_cases() {
             expect(
                 Assume,
                 Some("did(self,get(object5))"),
-                "I am assuming you want me to get the mug (object5). I cannot get the mug (object6) because the mug (object6) is out of reach.",
+                "I am assuming you want me to get the mug near the vase. I cannot get the right mug because the right mug is out of reach.",
             )
             .interps(vec![
-                interp("did(self,get(object5))", "the mug (object5)", vec![], &["get(object5)"]),
+                interp("did(self,get(object5))", "the mug near the vase", vec![], &["get(object5)"]),
                 interp(
                     "did(self,get(object6))",
-                    "the mug (object6)",
+                    "the right mug",
                     vec![("unreachable", "object6", None)],
                     &["get(object6)"],
                 ),

@@ -69,19 +69,33 @@ fn ordering_descriptions_and_readings() {
             .act("want_know(self,mean(human,or(did(self,get(abox)),did(self,get(zbox)))))"),
         ),
         case(
-            "two identical mugs get their ids",
+            "two identical mugs are told apart by a landmark, else a position",
             lab_with(|objects| objects.push(obj("object6", "mug", &[], &[], [0.5, 0.4, 0.8], mug_shape()))),
             paper_norms(),
             act("get", vec![ty("mug")]),
             expect(
                 Ask,
                 None,
-                "Do you mean that you want me to get the mug (object5) or that you want me to get the mug (object6)?",
+                "Do you mean that you want me to get the left mug or that you want me to get the mug near the fragile vase?",
             )
             .interps(vec![
-                interp("did(self,get(object5))", "the mug (object5)", vec![], &["get(object5)"]),
-                interp("did(self,get(object6))", "the mug (object6)", vec![], &["get(object6)"]),
+                interp("did(self,get(object5))", "the left mug", vec![], &["get(object5)"]),
+                interp("did(self,get(object6))", "the mug near the fragile vase", vec![], &["get(object6)"]),
             ]),
+        ),
+        case(
+            "two identical mugs at one spot get their ids",
+            lab_with(|objects| {
+                let at = objects.iter().find(|o| o.id == "object5").expect("the lab's mug").position;
+                objects.push(obj("object6", "mug", &[], &[], at, mug_shape()));
+            }),
+            paper_norms(),
+            act("get", vec![ty("mug")]),
+            expect(
+                Ask,
+                None,
+                "Do you mean that you want me to get the mug (object5) or that you want me to get the mug (object6)?",
+            ),
         ),
         case(
             "a feature that rules nothing out is left out",
@@ -97,7 +111,7 @@ fn ordering_descriptions_and_readings() {
             expect(
                 Ask,
                 None,
-                "Do you mean that you want me to get the heavy vase or that you want me to get the vase (v2)?",
+                "Do you mean that you want me to get the heavy vase or that you want me to get the left vase?",
             ),
         ),
         case(
@@ -136,7 +150,7 @@ fn ordering_descriptions_and_readings() {
             expect(
                 Ask,
                 None,
-                "Do you mean that you want me to point to the fragile blue vase or that you want me to point to the fragile red vase or that you want me to point to the red vase (v3)?",
+                "Do you mean that you want me to point to the fragile blue vase or that you want me to point to the fragile red vase or that you want me to point to the left red vase?",
             ),
         ),
         case(

@@ -220,7 +220,7 @@ fn serving_and_tidying() {
             expect(
                 Assume,
                 Some("did(self,get(mug2))"),
-                "I am assuming you want me to get the mug (mug2). I would rather not get the clean mug because the clean mug is chipped.",
+                "I am assuming you want me to get the right mug. I would rather not get the clean mug because the clean mug is chipped.",
             ),
         ),
         case(

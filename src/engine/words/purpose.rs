@@ -33,6 +33,19 @@ pub(super) enum Purposed {
 /// Reads `words` (a purpose, from its opening word) whose verb is at `verb_word`.
 pub(super) fn read_purpose(words: &[String], verb_word: usize, lexicon: &Lexicon) -> Purposed {
     let Some((phrase, taken)) = verb_at(words, verb_word, lexicon) else {
+        // "to teh left of the box", "to zorp the right of it" are a relation misspelt, not a
+        // purpose: an unknown word before "(the) left of" (right, front, back, top, side) is
+        // not understood, never left out.
+        let after = &words[(verb_word + 1).min(words.len())..];
+        let side_of = |i: usize| {
+            after
+                .get(i)
+                .is_some_and(|w| ["left", "right", "front", "back", "top", "side"].contains(&w.as_str()))
+                && after.get(i + 1).is_some_and(|w| w == "of")
+        };
+        if side_of(0) || after.first().is_some_and(|w| w == "the") && side_of(1) {
+            return Purposed::Unplaced;
+        }
         return Purposed::Shown;
     };
     let mut rest = split_particle(&words[verb_word + taken..], phrase);

@@ -70,6 +70,9 @@ const SUPERLATIVES: &[(&str, Superlative)] = &[
     ("rightmost", Superlative::Left { most: false }),
     ("highest", Superlative::Elevation { most: true }),
     ("lowest", Superlative::Elevation { most: false }),
+    // A position, as the robot's own descriptions say it: "the left cup" is the leftmost.
+    ("left", Superlative::Left { most: true }),
+    ("right", Superlative::Left { most: false }),
 ];
 
 const ORDINALS: &[&str] = &[
