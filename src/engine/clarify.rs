@@ -285,7 +285,7 @@ fn decide_directive(
         }
     };
     // A slot cut short by the deadline is empty, and says nothing of the scene.
-    if expired() {
+    if (slots.iter().chain(&purpose_slots)).any(|s| s.candidates.is_empty()) && expired() {
         let limits = Limits {
             kind: LimitKind::Deadline,
             readings: 0,

@@ -40,7 +40,8 @@ async fn narrowing_and_negating_words_after_a_reference_are_never_dropped() {
         "Get the cup now, the blue one.",
         "Get the notebook for me, not the red one.",
         "Get the cup, don't.",
-        "Get the cup to the right of the fork",
+        // The cup is to the right of the fork, seen from the agent: read, never dropped.
+        "Get the cup to the left of the fork",
     ] {
         let answer = app.clarify(&said(text, red_things())).await;
         assert!(answer["goal"].is_null(), "{text}: {answer}");

@@ -435,7 +435,7 @@ fn arb_case() -> impl Strategy<Value = Case> {
 
 /// What the answer proposes or acts on is acceptable, with the best norm score among the
 /// acceptable readings; a goal only for `comply` and `assume`; nothing acted on past a limit.
-fn check(d: &Decision) -> Result<(), TestCaseError> {
+pub(super) fn check(d: &Decision) -> Result<(), TestCaseError> {
     let reading = |action: &Term| d.interpretations.iter().find(|i| &i.action == action);
     let best = (d.interpretations.iter())
         .filter(|i| i.acceptable())
