@@ -198,7 +198,7 @@ pub fn clarify_read(
             let unclear = decision.parse.as_ref().and_then(|p| p.unclear);
             decision.parse = Some(Understood {
                 unclear,
-                ..parse.understood(&speaker, scene)
+                ..parse.understood(&speaker, scene, expired)
             });
             Ok(decision)
         }
@@ -291,8 +291,14 @@ fn decide_directive(
             readings: 0,
             simulated: 0,
         };
-        let plan = decide(options, &[], &slots, true);
-        return Ok(finish(plan, Vec::new(), Some(limits), &mut describer));
+        // Nothing was found in time: every reference is named, as when too many were.
+        let nouns = slots.iter().map(|s| s.noun.clone()).collect();
+        return Ok(finish(
+            Plan::AskWhich { nouns },
+            Vec::new(),
+            Some(limits),
+            &mut describer,
+        ));
     }
     let missing: Vec<Unfound> = (slots.iter().chain(&purpose_slots))
         .filter(|s| s.candidates.is_empty())

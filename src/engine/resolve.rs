@@ -396,7 +396,7 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
 /// The slot of one reference: every object of the scene it matches, in scene order. Past the
 /// deadline it is left empty; the caller asks the deadline before reading an empty slot.
 pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> bool) -> Slot {
-    let selected = reference.select(scene, expired).unwrap_or_default();
+    let selected = reference.select_once(scene, expired).unwrap_or_default();
     let candidates: Vec<(Term, f64)> = (selected.objects.iter())
         .map(|&i| (Term::Const(scene.objects[i].id.clone()), 1.0))
         .collect();

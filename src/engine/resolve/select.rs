@@ -56,6 +56,37 @@ fn any(lists: impl Iterator<Item = Vec<usize>>) -> Vec<usize> {
 }
 
 impl Reference {
+    /// [`Reference::select`], once per request for a reference that relations, a superlative
+    /// or an ordinal make costly: the parse shows what resolving it found.
+    pub fn select_once(&self, scene: &Scene, expired: &dyn Fn() -> bool) -> Option<Selected> {
+        if !self.placed_among_others() {
+            return self.select(scene, expired);
+        }
+        let key = format!("{self:?}");
+        if let Some((objects, untold)) = scene.layout().selected(&key) {
+            return Some(Selected { objects, untold });
+        }
+        let selected = self.select(scene, expired)?;
+        scene.layout().remember(key, &selected.objects, selected.untold.clone());
+        Some(selected)
+    }
+
+    /// Whether what the reference selects depends on other objects than each one alone.
+    fn placed_among_others(&self) -> bool {
+        match self {
+            Reference::Related { .. } | Reference::Most { .. } | Reference::Nth { .. } | Reference::Union { .. } => {
+                true
+            }
+            Reference::Narrowed { base, by, .. } => base.placed_among_others() || by.placed_among_others(),
+            Reference::Either { options, .. } => options.iter().any(Reference::placed_among_others),
+            Reference::Id(_)
+            | Reference::Described { .. }
+            | Reference::Spoken { .. }
+            | Reference::Pronoun { .. }
+            | Reference::Nothing { .. } => false,
+        }
+    }
+
     /// The objects the reference selects; `None` when the deadline passed on the way.
     pub fn select(&self, scene: &Scene, expired: &dyn Fn() -> bool) -> Option<Selected> {
         if self.names_nothing() {

@@ -10,9 +10,9 @@ use parry3d::bounding_volume::Aabb;
 use parry3d::math::{Point, Real};
 use parry3d::na::{Quaternion, UnitQuaternion, Vector3};
 use parry3d::partitioning::{Bvh, BvhBuildStrategy};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::{Object, Scene, Shape};
 
@@ -30,6 +30,9 @@ pub const TIE_SHARE: f64 = 0.05;
 /// A relation whose smaller side has at most this many objects on its other side is checked
 /// pair by pair; a larger one asks the index of the boxes.
 const PAIRS: usize = 64;
+
+/// Pairs checked between two askings of the deadline (a few hundred microseconds' work).
+const ASK_EVERY: usize = 4096;
 
 /// A relation between two objects, as the contract names it in facts and structured requests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -304,6 +307,10 @@ pub struct Layout {
     stated: FxHashSet<(Relation, usize, usize)>,
     /// The same, listed per relation in the order given, for walking them.
     listed: Vec<(Relation, usize, usize)>,
+    /// What each reference with relations, a superlative or an ordinal selected, by its
+    /// structure written out: a request asks for the same reference when resolving it and
+    /// again when showing its parse.
+    selected: Mutex<FxHashMap<String, (Vec<usize>, Option<String>)>>,
 }
 
 impl Layout {
@@ -331,6 +338,20 @@ impl Layout {
             index: OnceLock::new(),
             stated,
             listed,
+            selected: Mutex::default(),
+        }
+    }
+
+    /// What `key` selected earlier in this request (and what the scene could not tell), if it
+    /// was asked.
+    pub fn selected(&self, key: &str) -> Option<(Vec<usize>, Option<String>)> {
+        self.selected.lock().ok()?.get(key).cloned()
+    }
+
+    /// Notes what `key` selected, for the next asking.
+    pub fn remember(&self, key: String, objects: &[usize], untold: Option<String>) {
+        if let Ok(mut selected) = self.selected.lock() {
+            selected.insert(key, (objects.to_vec(), untold));
         }
     }
 
@@ -405,15 +426,15 @@ impl Layout {
         } else {
             (landmarks, subjects)
         };
-        for (k, &x) in walked.iter().enumerate() {
-            if k % 64 == 0 && expired() {
-                return None;
-            }
+        // Pairs checked since the deadline was last asked: one object may be near thousands.
+        let mut checked = 0usize;
+        for &x in walked {
             if by_subject && kept[x] {
                 continue;
             }
             // Whether the pair (x, y) settles x, so that nothing more is asked about it.
             let mut settles = |y: usize| {
+                checked += 1;
                 let (a, b) = if by_subject { (x, y) } else { (y, x) };
                 let wanted = if by_subject {
                     is_landmark[b]
@@ -437,6 +458,12 @@ impl Layout {
                     if settles(leaf as usize) {
                         break;
                     }
+                }
+            }
+            if checked >= ASK_EVERY {
+                checked = 0;
+                if expired() {
+                    return None;
                 }
             }
         }

@@ -103,10 +103,11 @@ impl Parse {
     /// What the answer shows of a parse: the logical form after pragmatics, one variable per
     /// reference (`want(human,did(self,put(X,Y)))`; a task's `and(get(X),put(X,Y))`), each
     /// reference's candidates, and a task's steps with how each pronoun was bound.
-    pub fn understood(&self, speaker: &Term, scene: &Scene) -> Understood {
+    /// Past the deadline, a reference resolving did not finish shows no candidates.
+    pub fn understood(&self, speaker: &Term, scene: &Scene, expired: &dyn Fn() -> bool) -> Understood {
         let candidates = |reference: &Reference| -> Vec<String> {
-            // What the decision selected again, whole: a parse is shown once per answer.
-            (reference.select(scene, &|| false).unwrap_or_default().objects.iter())
+            // What resolving the directive selected, kept for the costly ones.
+            (reference.select_once(scene, expired).unwrap_or_default().objects.iter())
                 .map(|&i| scene.objects[i].id.to_string())
                 .collect()
         };
