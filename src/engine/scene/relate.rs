@@ -210,15 +210,8 @@ pub struct Box3 {
 impl Box3 {
     /// The distance between two boxes; zero when they touch or overlap.
     pub fn gap(&self, other: &Box3) -> f64 {
-        (0..3)
-            .map(|i| {
-                (self.min[i] - other.max[i])
-                    .max(other.min[i] - self.max[i])
-                    .max(0.0)
-                    .powi(2)
-            })
-            .sum::<f64>()
-            .sqrt()
+        let gap = |i: usize| (self.min[i] - other.max[i]).max(other.min[i] - self.max[i]).max(0.0);
+        norm([gap(0), gap(1), gap(2)])
     }
 
     fn overlaps_on(&self, other: &Box3, axis: usize) -> bool {
@@ -291,8 +284,19 @@ impl Frame {
     }
 }
 
+/// Euclidean, without overflow for positions far apart (1e300 m squared is infinite).
 fn distance(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+    norm([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
+}
+
+/// The length of `v`, scaled by its largest component so that no square overflows; infinite
+/// only when a component is (two positions 1e308 m apart either way).
+fn norm(v: [f64; 3]) -> f64 {
+    let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return scale;
+    }
+    scale * v.iter().map(|c| (c / scale).powi(2)).sum::<f64>().sqrt()
 }
 
 /// The scene's boxes, its stated relations and an index over the boxes; built at the first
@@ -553,7 +557,8 @@ pub fn superlative(scene: &Scene, among: &[usize], superlative: Superlative) -> 
     Ok(among
         .iter()
         .zip(&values)
-        .filter(|(_, v)| (*v - best).abs() <= TIE_SHARE * best.abs())
+        // An infinite best (a volume past f64) ties only with itself.
+        .filter(|(_, v)| **v == best || best.is_finite() && (*v - best).abs() <= TIE_SHARE * best.abs())
         .map(|(&i, _)| i)
         .collect())
 }
@@ -589,4 +594,16 @@ pub fn ordinal(scene: &Scene, among: &[usize], nth: usize, direction: Direction)
             nth >= 1 && before < nth && nth <= among.len() - after
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    /// Positions far apart are far, not infinitely or NaN apart: a superlative compares them.
+    #[test]
+    fn distances_between_extreme_positions_do_not_overflow() {
+        let d = super::distance(&[-1e300, 1e300, 1e300], &[1e12, 1e12, 0.0]);
+        assert!((d / 1.7320508e300 - 1.0).abs() < 1e-6, "{d}");
+        assert_eq!(super::distance(&[1.0, 2.0, 3.0], &[1.0, 2.0, 3.0]), 0.0);
+        assert!((super::distance(&[0.0, 3.0, 4.0], &[0.0; 3]) - 5.0).abs() < 1e-12);
+    }
 }
