@@ -41,8 +41,9 @@ pub(super) fn tell_apart(scene: &Scene, object: &Object, distractors: &[&Object]
     left.sort_unstable();
     let layout = scene.layout();
     let never = || false;
-    // The first landmark that rules every distractor out; else the first that rules some out.
-    let mut partial: Option<(String, Vec<usize>)> = None;
+    // The first landmark that rules every distractor out; else each that rules some out, in
+    // order, to be tried with a position.
+    let mut partial: Vec<(String, Vec<usize>)> = Vec::new();
     for relation in ORDER {
         // A landmark of the object's own type ("the mug to the left of the mug") reads as
         // one of the look-alikes: the position says it better.
@@ -59,23 +60,25 @@ pub(super) fn tell_apart(scene: &Scene, object: &Object, distractors: &[&Object]
                         relation: Some(said),
                     });
                 }
-                if kept.len() < left.len() && partial.is_none() {
-                    partial = Some((said, kept));
+                if kept.len() < left.len() && !partial.iter().any(|(_, k)| *k == kept) {
+                    partial.push((said, kept));
                 }
             }
         }
     }
-    let relation = partial.as_ref().map(|(said, _)| said.clone());
-    let mut among = partial.map_or(left, |(_, kept)| kept);
-    among.push(index);
-    among.sort_unstable();
-    // "the left cup" is the leftmost of those the rest of the words match, alone.
-    for (word, most) in [("left", true), ("right", false)] {
-        if relate::superlative(scene, &among, Superlative::Left { most }).is_ok_and(|picked| picked == [index]) {
-            return Some(Told {
-                position: Some(word),
-                relation,
-            });
+    // "the left cup" is the leftmost of those the rest of the words match, alone: with a
+    // landmark that narrowed them first, else with none.
+    let tries = (partial.into_iter().map(|(said, kept)| (Some(said), kept))).chain([(None, left)]);
+    for (relation, mut among) in tries {
+        among.push(index);
+        among.sort_unstable();
+        for (word, most) in [("left", true), ("right", false)] {
+            if relate::superlative(scene, &among, Superlative::Left { most }).is_ok_and(|picked| picked == [index]) {
+                return Some(Told {
+                    position: Some(word),
+                    relation,
+                });
+            }
         }
     }
     None

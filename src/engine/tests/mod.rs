@@ -28,6 +28,7 @@ mod paper;
 mod plans;
 mod relation_props;
 mod relation_refs;
+mod relation_word_safety;
 mod relation_words;
 mod relations;
 mod runner;
