@@ -299,6 +299,9 @@ fn norm(v: [f64; 3]) -> f64 {
     scale * v.iter().map(|c| (c / scale).powi(2)).sum::<f64>().sqrt()
 }
 
+/// What a reference selected (object indices) and what the scene could not tell of it.
+pub type Remembered = (Vec<usize>, Option<String>);
+
 /// The scene's boxes, its stated relations and an index over the boxes; built at the first
 /// relation a request asks about.
 #[derive(Debug)]
@@ -314,7 +317,7 @@ pub struct Layout {
     /// What each reference with relations, a superlative or an ordinal selected, by its
     /// structure written out: a request asks for the same reference when resolving it and
     /// again when showing its parse.
-    selected: Mutex<FxHashMap<String, (Vec<usize>, Option<String>)>>,
+    selected: Mutex<FxHashMap<String, Remembered>>,
 }
 
 impl Layout {
@@ -348,7 +351,7 @@ impl Layout {
 
     /// What `key` selected earlier in this request (and what the scene could not tell), if it
     /// was asked.
-    pub fn selected(&self, key: &str) -> Option<(Vec<usize>, Option<String>)> {
+    pub fn selected(&self, key: &str) -> Option<Remembered> {
         self.selected.lock().ok()?.get(key).cloned()
     }
 

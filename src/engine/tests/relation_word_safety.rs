@@ -279,7 +279,7 @@ fn checked_again(d: &Decision, text: &str, scene: &Scene, norms: &CompiledNorms)
             true => reading.args().to_vec(),
             false => vec![reading.clone()],
         };
-        if by_in && steps.iter().any(|s| s.name().is_some_and(|n| &*n == "put")) {
+        if by_in && steps.iter().any(|s| s.name().is_some_and(|n| n.as_str() == "put")) {
             continue;
         }
         let checked = check_steps(&steps, scene, norms, &library, scope, Style::Diarc, &|| false);
