@@ -299,9 +299,9 @@ fn a_landmark_and_a_position_together_are_tried_before_an_id() {
 
 /// The service's own words for an object whose features, or its landmark's, open with a
 /// relation word ("on floor", said after the noun): read back, they are a second relation to an
-/// unknown "floor" and select nothing. Ignored until fixed.
+/// unknown "floor" and selected nothing. A known phrase of the scene's is now read as the
+/// feature it is.
 #[test]
-#[ignore = "defect: a feature said after the noun that opens with a relation word breaks the read-back"]
 fn a_feature_that_opens_with_a_relation_word_reads_back() {
     let at = |id: &str, kind: &str, place: Option<&str>, p: [f64; 3]| {
         let attributes: Vec<(&str, &str)> = place.map(|v| ("place", v)).into_iter().collect();

@@ -158,6 +158,15 @@ pub(super) fn related(span: &[String], lexicon: &Lexicon) -> Option<Phrase> {
             i += 3;
             continue;
         }
+        // "the table on floor": a feature of the scene's said after the noun, opening with a
+        // relation's word, is the feature (as the robot's own descriptions say it).
+        if i > last.start
+            && let Some((_, n)) = lexicon.adjective_at(&span[i..]).filter(|(_, n)| *n > 1)
+            && relation_at(span, i).is_some()
+        {
+            i += n;
+            continue;
+        }
         if i > last.start
             && let Some((relation, n)) = relation_at(span, i)
         {
