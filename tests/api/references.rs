@@ -68,6 +68,11 @@ async fn the_readmes_references_are_decided_as_it_says() {
     ] {
         assert_eq!(app.clarify(&said(words)).await["goal"], goal, "{words}");
     }
+    // A landmark said as "it" is the object in focus; with none, nothing.
+    let mut next_to_it = said("Get the cup next to it.");
+    assert_eq!(app.clarify(&next_to_it).await["decision"], "unresolved");
+    next_to_it["focus"] = json!(["fork1"]);
+    assert_eq!(app.clarify(&next_to_it).await["goal"], "did(self,get(cup1))");
     // A bare ordinal is not guessed.
     let answer = app.clarify(&said("Get the second cup.")).await;
     assert_eq!(answer["decision"], "unresolved");

@@ -282,8 +282,8 @@ pub fn understand(
     understood
 }
 
-/// Makes a pronoun of `reference` (itself, or the reference a narrowing narrows) the object
-/// `id`; whether there was one.
+/// Makes a pronoun of `reference` (itself, the reference a narrowing narrows, or a relation's
+/// landmark) the object `id`; whether there was one.
 fn point_at(reference: &mut Reference, id: &str) -> bool {
     match reference {
         Reference::Pronoun { .. } => {
@@ -291,6 +291,10 @@ fn point_at(reference: &mut Reference, id: &str) -> bool {
             true
         }
         Reference::Narrowed { base, .. } => point_at(base, id),
+        // "the cup next to it": the landmark is the object in focus.
+        Reference::Related { base, to, .. } => point_at(base, id) | point_at(to, id),
+        Reference::Union { readings, .. } => readings.iter_mut().fold(false, |any, r| point_at(r, id) | any),
+        Reference::Most { base, .. } | Reference::Nth { base, .. } => point_at(base, id),
         _ => false,
     }
 }

@@ -15,7 +15,7 @@
 use super::Phrase;
 use super::lexicon::Lexicon;
 use super::reference::{described, unplaced};
-use super::vocabulary::DETERMINERS;
+use super::vocabulary::{DETERMINERS, PRONOUNS};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::relate::{Direction, Relation, Superlative};
 
@@ -241,6 +241,13 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
         },
         pick: None,
     };
+    // "next to it": a pronoun landmark, bound as any pronoun is.
+    if said.len() == 1 && PRONOUNS.contains(&said[0].as_str()) && node.direction.is_none() {
+        return Head {
+            reference: Reference::Pronoun { words },
+            pick: None,
+        };
+    }
     let determiner = usize::from(DETERMINERS.contains(&said[0].as_str()));
     let mut body = &said[determiner..];
     let mut pick = None;
