@@ -8,6 +8,7 @@
 mod check;
 mod clarify;
 mod norms;
+mod scene;
 mod spelling;
 mod verbs;
 
