@@ -14,19 +14,6 @@ use crate::engine::scene::{Object, Scene, spoken};
 /// thousands of look-alikes, would cost more than the decision).
 pub(super) const UP_TO: usize = 64;
 
-/// The relations a landmark is tried by, in the contract's order ("from" is a source, not a
-/// place).
-const ORDER: [Relation; 8] = [
-    Relation::On,
-    Relation::In,
-    Relation::Under,
-    Relation::Near,
-    Relation::LeftOf,
-    Relation::RightOf,
-    Relation::Behind,
-    Relation::InFrontOf,
-];
-
 /// What tells the object apart: a position said after "the", a relation said after the noun.
 pub(super) struct Told {
     pub(super) position: Option<&'static str>,
@@ -44,7 +31,8 @@ pub(super) fn tell_apart(scene: &Scene, object: &Object, distractors: &[&Object]
     // The first landmark that rules every distractor out; else each that rules some out, in
     // order, to be tried with a position.
     let mut partial: Vec<(String, Vec<usize>)> = Vec::new();
-    for relation in ORDER {
+    // In the contract's order; "from" is a source, not a place.
+    for &relation in Relation::PLACES {
         // A landmark of the object's own type ("the mug to the left of the mug") reads as
         // one of the look-alikes: the position says it better.
         let landmarks = layout.landmarks_of(scene, index, relation);

@@ -111,22 +111,11 @@ impl Reference {
                     objects,
                 }
             }
-            Reference::Either { options, .. } => {
-                let mut selected = Vec::with_capacity(options.len());
-                for option in options {
-                    selected.push(option.select(scene, expired)?);
-                }
-                let untold = selected.iter().find_map(|s| s.untold.clone());
-                let objects = any(selected.into_iter().map(|s| s.objects));
-                Selected {
-                    untold: untold.filter(|_| objects.is_empty()),
-                    objects,
-                }
-            }
-            Reference::Union { readings, .. } => {
-                let mut selected = Vec::with_capacity(readings.len());
-                for reading in readings {
-                    selected.push(reading.select(scene, expired)?);
+            // Any option, or any reading of words that read more than one way: the union.
+            Reference::Either { options: parts, .. } | Reference::Union { readings: parts, .. } => {
+                let mut selected = Vec::with_capacity(parts.len());
+                for part in parts {
+                    selected.push(part.select(scene, expired)?);
                 }
                 let untold = selected.iter().find_map(|s| s.untold.clone());
                 let objects = any(selected.into_iter().map(|s| s.objects));

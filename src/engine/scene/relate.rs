@@ -78,6 +78,18 @@ impl Relation {
         }
     }
 
+    /// The relations of place, in the contract's order: every one but "from", a source.
+    pub const PLACES: &'static [Relation] = &[
+        Relation::On,
+        Relation::In,
+        Relation::Under,
+        Relation::Near,
+        Relation::LeftOf,
+        Relation::RightOf,
+        Relation::Behind,
+        Relation::InFrontOf,
+    ];
+
     pub fn from_name(name: &str) -> Option<Relation> {
         Relation::ALL.into_iter().find(|r| r.name() == name)
     }
