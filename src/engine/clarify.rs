@@ -268,6 +268,15 @@ fn decide_directive(
         return Ok(decision);
     }
 
+    // A plural argument makes a step per object: an action with one is a task of one step.
+    let as_task;
+    let directive = match directive.plural_action() {
+        Some(task) => {
+            as_task = Directive::Task(task);
+            &as_task
+        }
+        None => directive,
+    };
     let relation = joined(directive, library, &mut describer)?;
     // A task's purposes name objects too, which no reading binds: one that matches nothing is
     // said as any reference that does.
@@ -540,6 +549,10 @@ fn decide_directive(
 /// with nothing to move. Describing the candidates is work: past the deadline it is given up,
 /// and the slots are left as they were.
 fn presort(slots: &mut [Slot], describer: &mut Describer<'_>, expired: &(dyn Fn() -> bool + Sync)) -> bool {
+    // A group is described as its objects listed: not worth ordering ahead.
+    if slots.iter().any(|s| s.group) {
+        return false;
+    }
     let candidates: usize = slots.iter().map(|s| s.candidates.len()).sum();
     let readings = (slots.iter())
         .try_fold(1usize, |n, s| n.checked_mul(s.candidates.len()))
@@ -586,7 +599,7 @@ fn prepare(
         let action = template.action(&values);
         Interpretation {
             description: match template {
-                Template::Task(shape) => shape.words(&action, describer),
+                Template::Task(shape) => shape.words(&values, describer),
                 _ => describer.arguments(&action),
             },
             action,

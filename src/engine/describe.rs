@@ -13,6 +13,7 @@ mod relational;
 
 use super::action::Library;
 use super::scene::{Object, Scene, spoken, spoken_onto};
+use super::resolve::{members, plural};
 use super::term::{Sym, Term};
 
 /// A distinguishing feature of an object.
@@ -338,6 +339,23 @@ impl<'a> Describer<'a> {
 
     /// [`Describer::argument`], appended to `out`.
     pub fn argument_into(&mut self, arg: &Term, out: &mut String) {
+        // A group of objects: every object of a type as the type ("the cups", "both cups"),
+        // else listed ("the red cup, the blue cup and the green cup").
+        if let Some(members) = members(arg) {
+            if let Some(all) = self.all_of_a_kind(members) {
+                out.push_str(&all);
+                return;
+            }
+            for (i, member) in members.iter().enumerate() {
+                match i {
+                    0 => {}
+                    _ if i + 1 == members.len() => out.push_str(" and "),
+                    _ => out.push_str(", "),
+                }
+                self.argument_into(member, out);
+            }
+            return;
+        }
         let Term::Const(name) = arg else {
             out.push_str(&arg.to_string());
             return;
@@ -375,6 +393,26 @@ impl<'a> Describer<'a> {
         };
         self.push_spoken(name, &words, out);
         self.cache.insert(name.clone(), words);
+    }
+
+    /// "both cups" or "the cups", when `members` are two or more objects of one type and the
+    /// scene has no other of it (looked for in scenes of up to [`SCAN_KINDS`] objects).
+    fn all_of_a_kind(&self, members: &[Term]) -> Option<String> {
+        if members.len() < 2 || self.scene.objects.len() > SCAN_KINDS {
+            return None;
+        }
+        let kind = &self.scene.object(members[0].name()?)?.kind;
+        for member in members {
+            if self.scene.object(member.name()?)?.kind != *kind {
+                return None;
+            }
+        }
+        let of_kind = self.scene.objects.iter().filter(|o| o.kind == *kind).count();
+        let many = plural(&spoken(kind));
+        (of_kind == members.len()).then(|| match of_kind {
+            2 => format!("both {many}"),
+            _ => format!("the {many}"),
+        })
     }
 
     /// Whether `id` names the robot itself (the scene's agent): spoken "I" or "me".
@@ -461,7 +499,7 @@ impl<'a> Describer<'a> {
                 out.push(' ');
             }
             if named.contains(arg) || step.args()[..i].contains(arg) {
-                out.push_str("it");
+                out.push_str(if members(arg).is_some() { "them" } else { "it" });
             } else {
                 self.argument_into(arg, out);
             }

@@ -22,6 +22,8 @@ use super::term::{Sym, Term};
 /// Defaults of the options that bound a request's work and words.
 pub const DEFAULT_MAX_SPOKEN: usize = 5;
 pub const DEFAULT_MAX_READINGS: usize = 10_000;
+/// The most readings a request may ask to be read (`options.max_readings`).
+pub const MOST_READINGS: usize = 100_000;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -346,7 +348,7 @@ impl Options {
         let max_readings = ranged(
             "/options/max_readings",
             options.max_readings,
-            1..=100_000,
+            1..=MOST_READINGS as u64,
             DEFAULT_MAX_READINGS as u64,
         )?;
         let options = Options {
@@ -384,6 +386,15 @@ impl Answer {
                 Ok(Answer::Id(id))
             }
             (None, None, Some(reference)) => {
+                // An answer names which objects are meant, not how many.
+                for (field, given) in [("count", reference.count.is_some()), ("all", reference.all.is_some())] {
+                    if given {
+                        return Err(Invalid::new(
+                            format!("/reference/{field}"),
+                            "an answer's reference names which objects are meant; `count` and `all` go with the directive",
+                        ));
+                    }
+                }
                 match Reference::from_input(reference, scene).map_err(|e| e.within("/reference"))? {
                     Reference::Id(id) => Ok(Answer::Id(id)),
                     described => Ok(Answer::Reference(described)),
@@ -431,6 +442,27 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
 }
 
 impl Directive {
+    /// An action with a plural argument, as the task of one step it is: the step makes an act
+    /// per object ([`Task`]); `None` for any other directive.
+    pub fn plural_action(&self) -> Option<Task> {
+        let Directive::Action {
+            verb,
+            arguments,
+            joiner,
+        } = self
+        else {
+            return None;
+        };
+        arguments.iter().any(|a| a.number().is_some()).then(|| Task {
+            steps: vec![Step {
+                verb: verb.clone(),
+                arguments: arguments.iter().cloned().map(Argument::Reference).collect(),
+                joiner: joiner.clone(),
+            }],
+            purposes: Vec::new(),
+        })
+    }
+
     /// The directive and, for a form `want(S,...)`, its speaker; fields named relative to the
     /// directive. Every reference and binding must name objects of `scene`.
     fn from_input(
@@ -478,10 +510,13 @@ impl Directive {
                         "`bindings` go with `form`, not with `action`",
                     ));
                 }
-                let arguments = (input.arguments.unwrap_or_default().into_iter().enumerate())
+                let arguments: Vec<Reference> = (input.arguments.unwrap_or_default().into_iter().enumerate())
                     .map(|(i, r)| Reference::from_input(r, scene).map_err(|e| e.within(&format!("/arguments/{i}"))))
                     .collect::<Result<_, _>>()?;
                 let joiner = input.joiner.map(joiner_word).transpose()?;
+                if let Some(j) = second_plural(&arguments) {
+                    return Err(Invalid::new(format!("/arguments/{j}"), ONE_PLURAL));
+                }
                 Ok((
                     Directive::Action {
                         verb,
@@ -512,6 +547,18 @@ impl Directive {
             }
         }
     }
+}
+
+/// Why a step may not have two plural arguments.
+const ONE_PLURAL: &str = "a step names at most one plural argument (`count` or `all`): \
+    which object goes with which is not guessed";
+
+/// The position of the second plural among an action's arguments, if any.
+fn second_plural(arguments: &[Reference]) -> Option<usize> {
+    (arguments.iter().enumerate())
+        .filter(|(_, a)| a.number().is_some())
+        .nth(1)
+        .map(|(j, _)| j)
 }
 
 /// A joiner as a client gives it: one lower-case word.
@@ -546,7 +593,9 @@ fn task_of(steps: Vec<StepInput>, scene: &Scene) -> Result<Task, Invalid> {
                 }
                 (Some(earlier), Some(k)) => {
                     let r = &argument.reference;
-                    if r.id.is_some() || r.kind.is_some() || r.attributes.is_some() || r.properties.is_some() {
+                    let described = r.id.is_some() || r.kind.is_some() || r.attributes.is_some();
+                    let narrowed = r.properties.is_some() || !r.relations.is_empty();
+                    if described || narrowed || r.count.is_some() || r.all.is_some() {
                         return Err(Invalid::new(
                             field,
                             "an argument is either a reference or `step` with `argument`, not both",
@@ -586,10 +635,14 @@ fn task_of(steps: Vec<StepInput>, scene: &Scene) -> Result<Task, Invalid> {
             joiner,
         });
     }
-    Ok(Task {
+    let task = Task {
         steps: out,
         purposes: Vec::new(),
-    })
+    };
+    if let Some((i, j)) = task.second_plural() {
+        return Err(Invalid::new(format!("/steps/{i}/arguments/{j}"), ONE_PLURAL));
+    }
+    Ok(task)
 }
 
 /// Each variable of `action`, in first-appearance order, with its candidates: every variable

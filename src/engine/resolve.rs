@@ -7,13 +7,15 @@
 use std::collections::BTreeMap;
 
 use super::input::{Invalid, constant};
-use super::request::{Answer, Directive};
+use super::request::{Answer, Directive, MOST_READINGS};
 use super::scene::relate::{Direction, Relation, Superlative};
 use super::scene::{Object, Scene, spoken};
 use super::task::Shape;
 use super::term::{Subst, Sym, Term};
 
+mod number;
 mod select;
+pub use number::{MAX_GROUP, Number, count_of, members, objects_of, plural, singulars};
 pub use select::Selected;
 
 /// What an adjective in words may say of an object.
@@ -107,6 +109,13 @@ pub enum Reference {
         from: Direction,
         words: String,
     },
+    /// "the cups", "both cups", "two cups": several of what `base` matches at once, one step
+    /// each; its slot offers groups of objects ([`Number`] says which).
+    Plural {
+        base: Box<Reference>,
+        number: Number,
+        words: String,
+    },
 }
 
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
@@ -120,6 +129,11 @@ pub struct ReferenceInput {
     /// `(relation name, landmark)`: the object must stand in each to an object the landmark
     /// matches.
     pub relations: Vec<(String, ReferenceInput)>,
+    /// `count`: that many objects, any of the matches ("two cups"); with `all`, exactly that
+    /// many must match ("both cups").
+    pub count: Option<u64>,
+    /// Every match, one step each ("the cups").
+    pub all: Option<bool>,
 }
 
 /// The most relations a structured reference carries, counting those of its landmarks: as
@@ -129,13 +143,80 @@ pub const MAX_RELATIONS: usize = 8;
 impl Reference {
     /// A reference by id must name an object of the scene; a description needs at least one of
     /// its parts. Fields named relative to the reference.
-    pub fn from_input(input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
+    /// `count` and `all` make it plural.
+    pub fn from_input(mut input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
+        let number = Reference::number_input(&mut input)?;
         let mut budget = MAX_RELATIONS;
-        Reference::from_input_within(input, scene, &mut budget)
+        let reference = Reference::from_input_within(input, scene, &mut budget)?;
+        let Some(number) = number else {
+            return Ok(reference);
+        };
+        // "the red cup on the table" said of several: "the two red cups on the table".
+        let plain = match &reference {
+            Reference::Related { .. } => {
+                let mut base = &reference;
+                while let Reference::Related { base: inner, .. } = base {
+                    base = inner;
+                }
+                base.words(scene)
+            }
+            other => other.words(scene),
+        };
+        let all = reference.words(scene);
+        let rest = all.strip_prefix(plain.as_str()).unwrap_or_default();
+        let described = plain.strip_prefix("the ").unwrap_or(&plain);
+        let words = match number {
+            Number::Every => format!("the {}{rest}", plural(described)),
+            Number::Exactly(k) => format!("the {} {}{rest}", number::count_word(k), plural(described)),
+            Number::Any(1) => format!("one {described}{rest}"),
+            Number::Any(k) => format!("{} {}{rest}", number::count_word(k), plural(described)),
+        };
+        Ok(Reference::Plural {
+            base: Box::new(reference),
+            number,
+            words,
+        })
     }
 
-    /// [`Reference::from_input`], with `budget` relations left to the whole reference.
+    /// The number `count` and `all` give, checked; taken out of `input`.
+    fn number_input(input: &mut ReferenceInput) -> Result<Option<Number>, Invalid> {
+        let (count, all) = (input.count.take(), input.all.take());
+        if input.id.is_some() && (count.is_some() || all == Some(true)) {
+            let field = if count.is_some() { "/count" } else { "/all" };
+            return Err(Invalid::new(
+                field,
+                "an `id` names one object; `count` and `all` go with a description",
+            ));
+        }
+        let count = match count {
+            None => None,
+            Some(n) if (1..=MAX_GROUP as u64).contains(&n) => Some(n as usize),
+            Some(n) => {
+                return Err(Invalid::new(
+                    "/count",
+                    format!("`count` is 1 to {MAX_GROUP} objects at once, not {n}"),
+                ));
+            }
+        };
+        Ok(match (all == Some(true), count) {
+            (true, Some(k)) => Some(Number::Exactly(k)),
+            (true, None) => Some(Number::Every),
+            (false, Some(k)) => Some(Number::Any(k)),
+            (false, None) => None,
+        })
+    }
+
+    /// [`Reference::from_input`] without a number: a landmark's, or the one a number applies to;
+    /// with `budget` relations left to the whole reference.
     fn from_input_within(mut input: ReferenceInput, scene: &Scene, budget: &mut usize) -> Result<Reference, Invalid> {
+        for (field, given) in [("/count", input.count.is_some()), ("/all", input.all.is_some())] {
+            if given {
+                return Err(Invalid::new(
+                    field,
+                    "`count` and `all` go with an argument, not with a landmark: a landmark is any object it matches",
+                ));
+            }
+        }
         let relations = std::mem::take(&mut input.relations);
         let mut reference = Reference::plain_input(input, scene)?;
         for (i, (name, to)) in relations.into_iter().enumerate() {
@@ -235,9 +316,10 @@ impl Reference {
             Reference::Narrowed { base, .. } => base.head_matches(object),
             Reference::Either { options, .. } => options.iter().any(|o| o.head_matches(object)),
             Reference::Union { readings, .. } => readings.iter().any(|o| o.head_matches(object)),
-            Reference::Related { base, .. } | Reference::Most { base, .. } | Reference::Nth { base, .. } => {
-                base.head_matches(object)
-            }
+            Reference::Related { base, .. }
+            | Reference::Most { base, .. }
+            | Reference::Nth { base, .. }
+            | Reference::Plural { base, .. } => base.head_matches(object),
             Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
         }
     }
@@ -251,7 +333,9 @@ impl Reference {
             Reference::Either { options, .. } => options.iter().any(Reference::names_nothing),
             Reference::Union { readings, .. } => readings.iter().any(Reference::names_nothing),
             Reference::Related { base, to, .. } => base.names_nothing() || to.names_nothing(),
-            Reference::Most { base, .. } | Reference::Nth { base, .. } => base.names_nothing(),
+            Reference::Most { base, .. } | Reference::Nth { base, .. } | Reference::Plural { base, .. } => {
+                base.names_nothing()
+            }
             Reference::Id(_) | Reference::Described { .. } | Reference::Spoken { .. } => false,
         }
     }
@@ -260,6 +344,8 @@ impl Reference {
     pub(super) fn indefinite(&self) -> bool {
         match self {
             Reference::Spoken { indefinite, .. } => *indefinite,
+            // "two cups": any two will do; "the cups" or "both cups" leave no choice.
+            Reference::Plural { number, .. } => matches!(number, Number::Any(_)),
             Reference::Narrowed { base, .. }
             | Reference::Related { base, .. }
             | Reference::Most { base, .. }
@@ -278,7 +364,9 @@ impl Reference {
             Reference::Either { options, .. } => options.iter().find_map(Reference::unplaced),
             Reference::Union { readings, .. } => readings.iter().find_map(Reference::unplaced),
             Reference::Related { base, to, .. } => base.unplaced().or_else(|| to.unplaced()),
-            Reference::Most { base, .. } | Reference::Nth { base, .. } => base.unplaced(),
+            Reference::Most { base, .. } | Reference::Nth { base, .. } | Reference::Plural { base, .. } => {
+                base.unplaced()
+            }
             _ => None,
         }
     }
@@ -307,7 +395,22 @@ impl Reference {
             | Reference::Related { words, .. }
             | Reference::Most { words, .. }
             | Reference::Nth { words, .. }
+            | Reference::Plural { words, .. }
             | Reference::Narrowed { words, .. } => words.clone(),
+        }
+    }
+
+    /// How many objects the reference means at once, when it is plural: its own number, or that
+    /// of the reference its relations, pick or narrowing apply to.
+    pub fn number(&self) -> Option<Number> {
+        match self {
+            Reference::Plural { number, .. } => Some(*number),
+            Reference::Narrowed { base, .. }
+            | Reference::Related { base, .. }
+            | Reference::Most { base, .. }
+            | Reference::Nth { base, .. } => base.number(),
+            Reference::Union { readings, .. } => readings.first().and_then(Reference::number),
+            _ => None,
         }
     }
 
@@ -319,7 +422,8 @@ impl Reference {
             Reference::Narrowed { base, .. }
             | Reference::Related { base, .. }
             | Reference::Most { base, .. }
-            | Reference::Nth { base, .. } => base.noun(),
+            | Reference::Nth { base, .. }
+            | Reference::Plural { base, .. } => base.noun(),
             Reference::Union { readings, .. } => readings.first().and_then(Reference::noun),
             Reference::Either { options, .. } => {
                 let nouns: Vec<Option<String>> = options.iter().map(Reference::noun).collect();
@@ -353,6 +457,8 @@ pub(super) struct Slot {
     /// What the scene could not tell, when that is why nothing matches ("I cannot tell which
     /// box is the biggest: …").
     pub(super) untold: Option<String>,
+    /// Whether the candidates are groups of objects (a plural reference's).
+    pub(super) group: bool,
 }
 
 /// How one choice of candidates, one per slot, becomes an action.
@@ -395,18 +501,39 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
 
 /// The slot of one reference: every object of the scene it matches, in scene order. Past the
 /// deadline it is left empty; the caller asks the deadline before reading an empty slot.
+/// A plural reference's slot offers groups of its matches ([`number::groups`]).
 pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> bool) -> Slot {
     let selected = reference.select_once(scene, expired).unwrap_or_default();
-    let candidates: Vec<(Term, f64)> = (selected.objects.iter())
+    let objects: Vec<(Term, f64)> = (selected.objects.iter())
         .map(|&i| (Term::Const(scene.objects[i].id.clone()), 1.0))
         .collect();
-    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &candidates));
+    let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &objects));
+    let mut untold = selected.untold;
+    let (candidates, noun) = match reference.number() {
+        None => (objects, noun),
+        // Nothing found says why as a singular would, unless the count is what is wrong.
+        Some(_) if objects.is_empty() && (untold.is_some() || reference.names_nothing() || expired()) => {
+            (objects, plural(&noun))
+        }
+        Some(number) => {
+            let matches: Vec<Term> = objects.into_iter().map(|(t, _)| t).collect();
+            // One group more than any request may read says there are too many.
+            match number::groups(number, &matches, &noun, MOST_READINGS + 1) {
+                Ok(groups) => (groups.into_iter().map(|g| (g, 1.0)).collect(), plural(&noun)),
+                Err(why) => {
+                    untold = Some(why);
+                    (Vec::new(), plural(&noun))
+                }
+            }
+        }
+    };
     Slot {
-        untold: selected.untold.filter(|_| candidates.is_empty()),
+        untold: untold.filter(|_| candidates.is_empty()),
         candidates,
         words: reference.words(scene),
         noun,
         unplaced: reference.unplaced(),
+        group: reference.number().is_some(),
     }
 }
 
@@ -437,6 +564,7 @@ pub(super) fn slots<'a>(
                 noun: "one".to_owned(),
                 unplaced: None,
                 untold: None,
+                group: false,
             }],
         ),
         Directive::Form { action, bindings } => {
@@ -460,6 +588,7 @@ pub(super) fn slots<'a>(
                         noun,
                         unplaced: None,
                         untold: None,
+                        group: false,
                     }
                 })
                 .collect();
@@ -498,6 +627,10 @@ pub(super) fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
 /// Whether an object the answer names is this candidate; `named`: the objects (by index) an
 /// answer that is a reference selects.
 fn answer_names(answer: &Answer, named: &[bool], value: &Term, scene: &Scene) -> bool {
+    // A group is named when one of its objects is.
+    if let Some(members) = members(value) {
+        return members.iter().any(|m| answer_names(answer, named, m, scene));
+    }
     let Some(index) = value.name().and_then(|id| scene.index_of(id)) else {
         return false;
     };

@@ -10,7 +10,7 @@
 
 use super::action::Library;
 use super::describe::Describer;
-use super::resolve::{Reference, Slot, slot};
+use super::resolve::{Reference, Slot, members, objects_of, slot};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, Reason, did, purpose_reasons, simulate_from};
 use super::term::{Sym, Term};
@@ -78,6 +78,30 @@ impl Task {
         })
     }
 
+    /// The first argument (step, argument) that is a second plural in its step, its own or
+    /// one it refers back to: a step makes an act per object of one plural, and which cup goes
+    /// on which plate is not guessed ("put the cups on the plates").
+    pub fn second_plural(&self) -> Option<(usize, usize)> {
+        fn plural<'a>(steps: &'a [Step], mut argument: &'a Argument) -> bool {
+            loop {
+                match argument {
+                    Argument::Reference(r) => return r.number().is_some(),
+                    Argument::Earlier { step, argument: j } => {
+                        match steps.get(*step).and_then(|s| s.arguments.get(*j)) {
+                            Some(earlier) => argument = earlier,
+                            None => return false,
+                        }
+                    }
+                }
+            }
+        }
+        self.steps.iter().enumerate().find_map(|(i, step)| {
+            let mut plurals = (step.arguments.iter().enumerate()).filter(|(_, a)| plural(&self.steps, a));
+            plurals.next()?;
+            plurals.next().map(|(j, _)| (i, j))
+        })
+    }
+
     /// The slots of the task's references, and how each step's arguments and each purpose's
     /// name them. An `Earlier` argument must name an earlier step's existing argument (the
     /// constructors check it; here it is trusted).
@@ -112,7 +136,13 @@ impl Task {
                     .map(|a| match a {
                         Argument::Reference(reference) => {
                             let found = slot(reference, scene, expired);
-                            let objects = found.candidates.iter().map(|(t, _)| t.clone()).collect();
+                            // A plural's groups share objects: each is checked once.
+                            let mut seen = std::collections::HashSet::new();
+                            let objects = (found.candidates.iter())
+                                .flat_map(|(t, _)| objects_of(t))
+                                .filter(|o| seen.insert(*o))
+                                .cloned()
+                                .collect();
                             purpose_slots.push(found);
                             PurposeArgument::Objects(objects)
                         }
@@ -183,43 +213,65 @@ impl Shape {
         self.relations.iter().flatten().cloned().collect()
     }
 
-    /// A reading's action from its slots' values: the step's action for one step, else
-    /// `and(A1,A2,…)`, the steps' actions in order.
-    pub(super) fn action(&self, values: &[Term]) -> Term {
-        // The verbs' symbols as they are: a reading is built without looking a name up.
-        let step = |(verb, slots): &(Sym, Vec<usize>)| match slots.is_empty() {
-            true => Term::Const(verb.clone()),
-            false => Term::Compound(verb.clone(), slots.iter().map(|&s| values[s].clone()).collect()),
-        };
-        match self.steps.as_slice() {
-            [one] => step(one),
-            steps => Term::Compound(AND.clone(), steps.iter().map(step).collect()),
+    /// A reading's acts in order, each with the step it is of: a step names one act, or one
+    /// for each object of the group a plural argument binds ("put the cups in the sink": one
+    /// `put` per cup, in scene order).
+    fn acts(&self, values: &[Term]) -> Vec<(usize, Term)> {
+        let mut acts = Vec::with_capacity(self.steps.len());
+        for (i, (verb, slots)) in self.steps.iter().enumerate() {
+            // The verbs' symbols as they are: a reading is built without looking a name up.
+            let act = |value: &dyn Fn(usize) -> Term| match slots.is_empty() {
+                true => Term::Const(verb.clone()),
+                false => Term::Compound(verb.clone(), slots.iter().map(|&s| value(s)).collect()),
+            };
+            // A step names at most one plural (the constructors see to it); its slot may stand
+            // in more than one of its places ("put them on them").
+            match slots.iter().find(|&&s| members(&values[s]).is_some()) {
+                None => acts.push((i, act(&|s| values[s].clone()))),
+                Some(&plural) => {
+                    for member in objects_of(&values[plural]) {
+                        acts.push((i, act(&|s| if s == plural { member.clone() } else { values[s].clone() })));
+                    }
+                }
+            }
         }
+        acts
     }
 
-    /// The steps of a reading's action (made by [`Shape::action`]).
-    fn steps_of<'t>(&self, action: &'t Term) -> &'t [Term] {
-        match self.steps.len() {
-            1 => std::slice::from_ref(action),
-            _ => action.args(),
+    /// A reading's action from its slots' values: its one act, else `and(A1,A2,…)`, the acts
+    /// in order ([`Shape::acts`]).
+    pub(super) fn action(&self, values: &[Term]) -> Term {
+        let mut acts = self.acts(values);
+        match acts.len() {
+            1 => acts.pop().expect("one act").1,
+            _ => Term::Compound(AND.clone(), acts.into_iter().map(|(_, act)| act).collect()),
         }
     }
 
     /// A reading in words: each step's verb and arguments, joined by " and ", an object named
-    /// by an earlier step spoken as "it" ("get the red mug and put it in the sink"); for one
-    /// step, its arguments only, as a directive's reading is described.
-    pub(super) fn words(&self, action: &Term, describer: &mut Describer<'_>) -> String {
-        // One step (said with a purpose) is described as any action is: by its arguments.
-        if self.steps.len() == 1 {
-            return describer.arguments_in_task(action, self.joiners[0].as_deref(), &[]);
+    /// by an earlier step spoken as "it" ("get the red mug and put it in the sink") and a
+    /// group as its objects listed ("get the red cup and the blue cup"), as "them" after; for
+    /// one step of one act, its arguments only, as a directive's reading is described.
+    pub(super) fn words(&self, values: &[Term], describer: &mut Describer<'_>) -> String {
+        let step = |(verb, slots): &(Sym, Vec<usize>)| match slots.is_empty() {
+            true => Term::Const(verb.clone()),
+            false => Term::Compound(verb.clone(), slots.iter().map(|&s| values[s].clone()).collect()),
+        };
+        // One step of one act (said with a purpose, or of a plural of one) is described as any
+        // action is: by its arguments.
+        if let [one] = self.steps.as_slice()
+            && one.1.iter().all(|&s| objects_of(&values[s]).len() == 1)
+        {
+            return describer.arguments_in_task(&step(one), self.joiners[0].as_deref(), &[]);
         }
         let mut named: Vec<Term> = Vec::new();
         let mut out = String::with_capacity(64);
-        for (i, step) in self.steps_of(action).iter().enumerate() {
+        for (i, said) in self.steps.iter().enumerate() {
             if i > 0 {
                 out.push_str(" and ");
             }
-            describer.step_in_task_onto(step, self.joiners[i].as_deref(), &named, &mut out);
+            let step = step(said);
+            describer.step_in_task_onto(&step, self.joiners[i].as_deref(), &named, &mut out);
             named.extend(step.args().iter().cloned());
         }
         out
@@ -233,8 +285,14 @@ impl Shape {
     pub(super) fn simulate(&self, env: &Env<'_>, world: &World, action: &Term, values: &[Term]) -> (Outcome, Term) {
         let mut outcome = Outcome::default();
         let mut world = world.clone();
-        for (i, step) in self.steps_of(action).iter().enumerate() {
-            let (found, after) = simulate_from(env, world, step, self.relations.get(i).and_then(Option::as_ref));
+        let of: Vec<usize> = self.acts(values).into_iter().map(|(step, _)| step).collect();
+        let acts = match of.len() {
+            1 => std::slice::from_ref(action),
+            _ => action.args(),
+        };
+        for (k, act) in acts.iter().enumerate() {
+            let i = of[k];
+            let (found, after) = simulate_from(env, world, act, self.relations.get(i).and_then(Option::as_ref));
             world = after;
             let unfinished = found.unfinished();
             outcome.plan.extend(found.plan);
@@ -243,6 +301,10 @@ impl Shape {
             }
             if unfinished {
                 break;
+            }
+            // A step's purposes, once its last act is done.
+            if of.get(k + 1) == Some(&i) {
+                continue;
             }
             for purpose in self.purposes.iter().filter(|p| p.after == i) {
                 if !purpose.check(env, &world, values, &mut outcome) {
@@ -261,7 +323,8 @@ impl PurposeShape {
     fn check(&self, env: &Env<'_>, world: &World, values: &[Term], outcome: &mut Outcome) -> bool {
         let lists: Vec<Vec<Term>> = (self.arguments.iter())
             .map(|a| match a {
-                PurposeArgument::Slot(s) => values.get(*s).cloned().into_iter().collect(),
+                // "to smash them": a purpose is for each object of a group.
+                PurposeArgument::Slot(s) => values.get(*s).map(|v| objects_of(v).to_vec()).unwrap_or_default(),
                 PurposeArgument::Objects(objects) => objects.clone(),
             })
             .collect();

@@ -111,6 +111,13 @@ pub struct StepArgumentBody {
     /// Relations to other objects, as a reference's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub relations: Vec<RelationBody>,
+    /// As a reference's: that many of the matches at once (with `all`, exactly that many).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(minimum = 1, maximum = 32)]
+    pub count: Option<u64>,
+    /// As a reference's: every match, one act each.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub all: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -132,6 +139,15 @@ pub struct ReferenceBody {
     /// is "the … on the table". Nested through `to`; at most 8 in all.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub relations: Vec<RelationBody>,
+    /// That many of the matching objects at once, any of them ("two cups": each choice is a
+    /// reading), one step each; with `all`, exactly that many must match ("both cups"). 1 to
+    /// 32. Not on a landmark or with `id`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(minimum = 1, maximum = 32)]
+    pub count: Option<u64>,
+    /// Every matching object, one step each ("the cups"). Not on a landmark or with `id`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub all: Option<bool>,
 }
 
 /// A relation to a landmark: `on`, `in`, `under`, `near`, `left_of`, `right_of`, `behind`,
@@ -277,6 +293,8 @@ impl From<StepArgumentBody> for StepArgumentInput {
                 attributes: a.attributes.map(texts),
                 properties: a.properties,
                 relations: relations(a.relations),
+                count: a.count,
+                all: a.all,
             },
             step: a.step,
             argument: a.argument,
@@ -292,6 +310,8 @@ impl From<ReferenceBody> for ReferenceInput {
             attributes: r.attributes.map(texts),
             properties: r.properties,
             relations: relations(r.relations),
+            count: r.count,
+            all: r.all,
         }
     }
 }

@@ -78,6 +78,7 @@ impl Reference {
                 true
             }
             Reference::Narrowed { base, by, .. } => base.placed_among_others() || by.placed_among_others(),
+            Reference::Plural { base, .. } => base.placed_among_others(),
             Reference::Either { options, .. } => options.iter().any(Reference::placed_among_others),
             Reference::Id(_)
             | Reference::Described { .. }
@@ -153,6 +154,8 @@ impl Reference {
                     },
                 }
             }
+            // Which of the matches are meant together is the slot's to say (`number`).
+            Reference::Plural { base, .. } => base.select(scene, expired)?,
             Reference::Nth { base, nth, from, .. } => {
                 let base = base.select(scene, expired)?;
                 Selected::of(relate::ordinal(scene, &base.objects, *nth, *from))

@@ -23,6 +23,7 @@ mod decisions;
 mod feasibility;
 mod fixtures;
 mod norms;
+mod number;
 mod ordering;
 mod paper;
 mod plans;

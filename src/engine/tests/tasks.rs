@@ -337,7 +337,7 @@ mod never_guess {
     use crate::engine::term::Term;
 
     const ADJECTIVES: &[&str] = &["", "red", "blue", "fragile", "wet", "★", "second"];
-    const NOUNS: &[&str] = &["mug", "plate", "vase", "knife", "cup", "mugs", "one"];
+    const NOUNS: &[&str] = &["mug", "plate", "vase", "knife", "cup", "mugz", "one"];
     const JOINS: &[&str] = &[" and ", ", then ", ". ", " and then ", " and after that "];
 
     /// The object an adjective and a noun may name: every word true of it.

@@ -378,7 +378,7 @@ fn clause(
     }
     // "get the cup not the red one": the rest excludes.
     // ("that is not red" is a relative clause inside the reference, read there.)
-    if let Some(at) = (1..rest.len()).find(|&i| rest[i] == "not" && rest[i - 1] != "is") {
+    if let Some(at) = (1..rest.len()).find(|&i| rest[i] == "not" && !["is", "are"].contains(&rest[i - 1].as_str())) {
         narrowings.insert(
             0,
             Narrowing {

@@ -10,6 +10,7 @@
 mod answer;
 mod grammar;
 mod lexicon;
+mod number;
 mod purpose;
 mod reference;
 mod relations;
@@ -294,7 +295,9 @@ fn point_at(reference: &mut Reference, id: &str) -> bool {
         // "the cup next to it": the landmark is the object in focus.
         Reference::Related { base, to, .. } => point_at(base, id) | point_at(to, id),
         Reference::Union { readings, .. } => readings.iter_mut().fold(false, |any, r| point_at(r, id) | any),
-        Reference::Most { base, .. } | Reference::Nth { base, .. } => point_at(base, id),
+        Reference::Most { base, .. } | Reference::Nth { base, .. } | Reference::Plural { base, .. } => {
+            point_at(base, id)
+        }
         _ => false,
     }
 }

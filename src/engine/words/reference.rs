@@ -86,7 +86,7 @@ pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     // "the mug that is not red", "the mug which is red": a relative clause of adjectives;
     // "any cup but (except, other than) the blue one": every match less what follows.
     if let Some(at) = (1..span.len().saturating_sub(2))
-        .find(|&i| ["that", "which"].contains(&span[i].as_str()) && span[i + 1] == "is")
+        .find(|&i| ["that", "which"].contains(&span[i].as_str()) && ["is", "are"].contains(&span[i + 1].as_str()))
     {
         let negated = span[at + 2] == "not";
         let clause = &span[at + 2 + usize::from(negated)..];

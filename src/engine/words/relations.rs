@@ -14,9 +14,10 @@
 
 use super::Phrase;
 use super::lexicon::Lexicon;
+use super::number::{described_plural, quantifier};
 use super::reference::{described, unplaced};
-use super::vocabulary::{DETERMINERS, PRONOUNS};
-use crate::engine::resolve::Reference;
+use super::vocabulary::{DETERMINERS, PLURAL_DETERMINERS, PRONOUNS};
+use crate::engine::resolve::{Number, Reference};
 use crate::engine::scene::relate::{Direction, Relation, Superlative};
 
 /// The most relations one reference chains: four give at most 14 attachments.
@@ -195,16 +196,28 @@ pub(super) fn related(span: &[String], lexicon: &Lexicon) -> Option<Phrase> {
         let first = node.start + usize::from(DETERMINERS.contains(&span[node.start].as_str()));
         span.get(first).map(String::as_str)
     };
-    let marked = nodes
+    let picked = nodes
         .iter()
         .any(|n| head_word(n).is_some_and(|w| ordinal(w).is_some() || SUPERLATIVES.iter().any(|(s, _)| *s == w)));
-    if relations.is_empty() && !marked && nodes[0].direction.is_none() {
-        return None;
-    }
     if relations.len() > MAX_RELATIONS {
         return nothing(Some(words.clone()));
     }
-    let heads: Vec<Head> = nodes.iter().map(|n| head(span, n, lexicon)).collect();
+    let mut heads: Vec<Head> = nodes.iter().map(|n| head(span, n, lexicon)).collect();
+    let counted = heads.iter().any(|h| h.number.is_some()) || quantifier(&span[nodes[0].start..nodes[0].end]).is_some();
+    if relations.is_empty() && !picked && !counted && nodes[0].direction.is_none() {
+        return None;
+    }
+    // A landmark is any object it matches: "the cup near the plates" is near any plate, but
+    // "near both plates" or "near two plates" would ask more of each, which is not read.
+    for (node, head) in nodes.iter().zip(&mut heads).skip(1) {
+        if matches!(head.number, Some(Number::Exactly(_) | Number::Any(_))) {
+            head.reference = Reference::Nothing {
+                words: span[node.start..node.end].join(" "),
+                unplaced: Some(span[node.start].clone()),
+            };
+        }
+        head.number = None;
+    }
     let mut readings = Vec::new();
     for parents in attachments(nodes.len()) {
         readings.push(tree(0, &parents, &nodes, &relations, &heads, span));
@@ -224,6 +237,8 @@ pub(super) fn related(span: &[String], lexicon: &Lexicon) -> Option<Phrase> {
 struct Head {
     reference: Reference,
     pick: Option<Pick>,
+    /// How many the node means, when it is plural.
+    number: Option<Number>,
 }
 
 enum Pick {
@@ -240,16 +255,21 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
             unplaced,
         },
         pick: None,
+        number: None,
     };
     // "next to it": a pronoun landmark, bound as any pronoun is.
     if said.len() == 1 && PRONOUNS.contains(&said[0].as_str()) && node.direction.is_none() {
         return Head {
             reference: Reference::Pronoun { words },
             pick: None,
+            number: None,
         };
     }
     let determiner = usize::from(DETERMINERS.contains(&said[0].as_str()));
-    let mut body = &said[determiner..];
+    let (mut number, mut body, plural) = match quantifier(said) {
+        Some((number, n, plural)) => (Some(number), &said[n..], plural),
+        None => (None, &said[determiner..], false),
+    };
     let mut pick = None;
     if let Some(first) = body.first() {
         if let Some((word, superlative)) = SUPERLATIVES.iter().find(|(w, _)| w == first) {
@@ -269,18 +289,42 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
     {
         return nothing(Some(span[node.end..end].join(" ")));
     }
-    let indefinite = determiner == 1 && ["a", "an", "any"].contains(&said[0].as_str());
-    let reference = if body == ["one"] {
+    // "the two biggest boxes", "the first two cups": a count with a pick is not read.
+    if matches!(number, Some(Number::Exactly(_) | Number::Any(_))) && pick.is_some() {
+        return nothing(Some(said[0].clone()));
+    }
+    let indefinite = number.is_none() && determiner == 1 && ["a", "an", "any"].contains(&said[0].as_str());
+    // A noun in the plural is every match, after a determiner that may say so ("the cups").
+    let plural_said = number.is_none() && (determiner == 0 || PLURAL_DETERMINERS.contains(&said[0].as_str()));
+    let any_one = |words: &String| Reference::Spoken {
+        kinds: Vec::new(),
+        named: Vec::new(),
+        adjectives: Vec::new(),
+        words: words.clone(),
+        indefinite,
+    };
+    if body == ["ones"] && (plural || plural_said) {
+        // "the ones on the table"
+        number = number.or(Some(Number::Every));
+        return Head {
+            reference: any_one(&words),
+            pick,
+            number,
+        };
+    }
+    let found = match plural {
+        true => described_plural(body, lexicon),
+        false => described(body, lexicon).or_else(|| {
+            let found = plural_said.then(|| described_plural(body, lexicon)).flatten()?;
+            number = Some(Number::Every);
+            Some(found)
+        }),
+    };
+    let reference = if body == ["one"] && !plural {
         // "the one on the table": any object the rest says.
-        Reference::Spoken {
-            kinds: Vec::new(),
-            named: Vec::new(),
-            adjectives: Vec::new(),
-            words: words.clone(),
-            indefinite,
-        }
+        any_one(&words)
     } else {
-        match described(body, lexicon) {
+        match found {
             Some((noun, adjectives)) => Reference::Spoken {
                 kinds: noun.kinds,
                 named: noun.named,
@@ -289,10 +333,18 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
                 indefinite,
             },
             None if body.is_empty() => return nothing(None),
+            // "both cup", "every cups": the number said back, as what did not agree.
+            None if number.is_some() && described(body, lexicon).or(described_plural(body, lexicon)).is_some() => {
+                return nothing(Some(said[0].clone()));
+            }
             None => return nothing(unplaced(body, lexicon)),
         }
     };
-    Head { reference, pick }
+    Head {
+        reference,
+        pick,
+        number,
+    }
 }
 
 /// Every way the relations may attach: `parents[i]` is the node the i-th node hangs from (by
@@ -345,20 +397,30 @@ fn tree(
             words: words.clone(),
         };
     }
-    match &heads[j].pick {
+    let reference = match &heads[j].pick {
         None => reference,
         Some(Pick::Most(superlative, said)) => Reference::Most {
             base: Box::new(reference),
             superlative: *superlative,
             said: said.clone(),
-            words,
+            words: words.clone(),
         },
         Some(Pick::Nth(nth, from)) => Reference::Nth {
             base: Box::new(reference),
             nth: *nth,
             from: *from,
+            words: words.clone(),
+        },
+    };
+    // The number counts what the whole node selects: "both cups on the table" are the cups on
+    // the table, and there must be two of those.
+    match heads[j].number {
+        Some(number) => Reference::Plural {
+            base: Box::new(reference),
+            number,
             words,
         },
+        None => reference,
     }
 }
 

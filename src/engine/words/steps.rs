@@ -132,6 +132,7 @@ fn opens_clause(words: &[String], at: usize, lexicon: &Lexicon) -> bool {
         .is_some_and(opens_reference);
     next_opens_reference
         && !DETERMINERS.contains(&word.as_str())
+        && super::number::quantifier(&words[at..]).is_none()
         && !PRONOUNS.contains(&word.as_str())
         && word != COMMA
         && !lexicon.knows(word)
@@ -414,6 +415,17 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
                 .collect(),
         })
     };
+    // "Put the cups on the plates.": which cup goes on which plate is not guessed.
+    let second = match &directive {
+        Directive::Task(task) => task.second_plural(),
+        one => one.plural_action().and_then(|task| task.second_plural()),
+    };
+    if let Some((i, j)) = second {
+        return Understanding::NotUnderstood {
+            why: Unclear::Unplaced,
+            words: steps[i].arguments[j].phrase.words.clone(),
+        };
+    }
     let (steps, purposes) = match one_step {
         true => (Vec::new(), Vec::new()),
         false => (steps, purposes),

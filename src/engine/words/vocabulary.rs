@@ -3,7 +3,9 @@
 //!
 //! Owns: those lists. Must not: grow a list by guessing; a word left out is one of `MANNER`.
 
-pub(super) const DETERMINERS: &[&str] = &["the", "a", "an", "any", "this", "that", "my", "your"];
+pub(super) const DETERMINERS: &[&str] = &["the", "a", "an", "any", "this", "that", "these", "those", "my", "your"];
+/// Determiners said with a noun in the plural: "the cups" is every cup; "a cups" is not said.
+pub(super) const PLURAL_DETERMINERS: &[&str] = &["the", "these", "those", "my", "your"];
 pub(super) const PRONOUNS: &[&str] = &["it", "them", "this", "that"];
 /// Words that open a question asking for information rather than action.
 pub(super) const QUESTION_WORDS: &[&str] = &[

@@ -121,6 +121,8 @@ impl From<pb::Step> for StepBody {
                         .then(|| a.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
                     properties: (!a.properties.is_empty()).then_some(a.properties),
                     relations: relations(a.relations),
+                    count: a.count,
+                    all: a.all,
                     step: a.step,
                     argument: a.argument,
                 })
@@ -139,6 +141,8 @@ impl From<pb::Reference> for ReferenceBody {
                 .then(|| r.attributes.into_iter().map(|(k, v)| (k, Scalar::Text(v))).collect()),
             properties: (!r.properties.is_empty()).then_some(r.properties),
             relations: relations(r.relations),
+            count: r.count,
+            all: r.all,
         }
     }
 }

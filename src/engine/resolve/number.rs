@@ -1,0 +1,248 @@
+//! Number: references to several objects at once ("the cups", "both cups", "two cups"), the
+//! groups of objects their slots offer, and the words for counts and plurals.
+//!
+//! Owns: which groups a plural reference's matches make, what is said when the scene has the
+//! wrong count, and the plural and singular forms of nouns. Must not: keep some of the matches
+//! where the words said all of them, or make more groups than any request may read.
+
+use std::sync::LazyLock;
+
+use crate::engine::term::{Sym, Term};
+
+/// How many of its matches a plural reference means.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Number {
+    /// "the cups", "all cups", "every cup", "each cup": every match, one step each.
+    Every,
+    /// "both cups", "the two cups": every match, and there must be exactly this many.
+    Exactly(usize),
+    /// "two cups": any this many of the matches; each choice is a reading.
+    Any(usize),
+}
+
+/// The most objects one plural reference may act on at once: a reading's plan has a step for
+/// each, and a step names at most one plural.
+pub const MAX_GROUP: usize = 32;
+
+/// The functor of a group's term (`&(c1,c2)`): a name no object or verb can have, so a group
+/// is never read as either.
+static GROUP: LazyLock<Sym> = LazyLock::new(|| {
+    let group = Sym::new("&");
+    group.make_lasting();
+    group
+});
+
+/// The term a slot's reading binds for a group of objects, in scene order.
+pub fn group(members: Vec<Term>) -> Term {
+    Term::Compound(GROUP.clone(), members.into())
+}
+
+/// The objects of a group's term; `None` for any other term.
+pub fn members(term: &Term) -> Option<&[Term]> {
+    match term {
+        Term::Compound(functor, members) if *functor == *GROUP => Some(&members[..]),
+        _ => None,
+    }
+}
+
+/// The objects a value stands for: a group's members, or the value itself.
+pub fn objects_of(term: &Term) -> &[Term] {
+    members(term).unwrap_or(std::slice::from_ref(term))
+}
+
+/// Nouns whose plural is not made by a rule, singular first.
+const IRREGULAR: &[(&str, &str)] = &[
+    ("child", "children"),
+    ("person", "people"),
+    ("man", "men"),
+    ("woman", "women"),
+    ("foot", "feet"),
+    ("tooth", "teeth"),
+    ("mouse", "mice"),
+    ("goose", "geese"),
+    ("knife", "knives"),
+    ("wife", "wives"),
+    ("leaf", "leaves"),
+    ("loaf", "loaves"),
+    ("shelf", "shelves"),
+    ("half", "halves"),
+    ("wolf", "wolves"),
+    ("scarf", "scarves"),
+];
+
+/// The plural of a spoken noun: its last word made plural ("cash boxes", "knives", "berries").
+pub fn plural(noun: &str) -> String {
+    let (head, last) = match noun.rsplit_once(' ') {
+        Some((head, last)) => (Some(head), last),
+        None => (None, noun),
+    };
+    let last = if let Some((_, many)) = IRREGULAR.iter().find(|(one, _)| *one == last) {
+        (*many).to_owned()
+    } else if let Some(stem) = last.strip_suffix('y')
+        && stem.chars().last().is_some_and(|c| !"aeiou".contains(c))
+    {
+        format!("{stem}ies")
+    } else if ["s", "x", "z", "ch", "sh"].iter().any(|e| last.ends_with(e)) {
+        format!("{last}es")
+    } else {
+        format!("{last}s")
+    };
+    match head {
+        Some(head) => format!("{head} {last}"),
+        None => last,
+    }
+}
+
+/// The singulars a word may be the plural of, likeliest first: the caller keeps the first that
+/// names something. A word that is no plural has none.
+pub fn singulars(word: &str) -> Vec<String> {
+    if let Some((one, _)) = IRREGULAR.iter().find(|(_, many)| *many == word) {
+        return vec![(*one).to_owned()];
+    }
+    let mut out = Vec::new();
+    if let Some(stem) = word.strip_suffix("ies").filter(|s| !s.is_empty()) {
+        out.push(format!("{stem}y"));
+    }
+    if let Some(stem) = word.strip_suffix("ves").filter(|s| !s.is_empty()) {
+        out.push(format!("{stem}f"));
+        out.push(format!("{stem}fe"));
+    }
+    // "bases" is "base"; "boxes" is "box"; "glass" is no plural.
+    if let Some(stem) = word.strip_suffix('s').filter(|s| !s.is_empty() && !s.ends_with('s')) {
+        out.push(stem.to_owned());
+    }
+    if let Some(stem) = word.strip_suffix("es").filter(|s| !s.is_empty()) {
+        out.push(stem.to_owned());
+    }
+    out
+}
+
+/// A count in words: "one" to "ten", then digits.
+pub fn count_word(n: usize) -> String {
+    const WORDS: [&str; 11] = [
+        "no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+    ];
+    WORDS.get(n).map_or_else(|| n.to_string(), |w| (*w).to_owned())
+}
+
+/// The number a word says, 1 to [`MAX_GROUP`]: "two", "3".
+pub fn count_of(word: &str) -> Option<usize> {
+    const WORDS: [&str; 10] = ["one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten"];
+    let n = match WORDS.iter().position(|w| *w == word) {
+        Some(i) => i + 1,
+        None => word.parse::<usize>().ok().filter(|_| word.bytes().all(|b| b.is_ascii_digit()))?,
+    };
+    (1..=MAX_GROUP).contains(&n).then_some(n)
+}
+
+/// `n` of the noun, as said: "one cup", "three cups".
+fn counted(n: usize, noun: &str) -> String {
+    match n {
+        1 => format!("one {noun}"),
+        _ => format!("{} {}", count_word(n), plural(noun)),
+    }
+}
+
+/// The groups a plural reference's `matches` (in scene order) make for `number`, in
+/// lexicographic order of their members' places; at most `most` of them (the caller makes one
+/// more than it may read, to know there are too many). With none, what the scene has instead.
+pub(super) fn groups(number: Number, matches: &[Term], noun: &str, most: usize) -> Result<Vec<Term>, String> {
+    let n = matches.len();
+    let wanted = match number {
+        Number::Every => n,
+        Number::Exactly(k) | Number::Any(k) => k,
+    };
+    let too_many = |n: usize| {
+        format!(
+            "There are {} here: I can act on at most {MAX_GROUP} at once.",
+            counted(n, noun)
+        )
+    };
+    match number {
+        _ if n == 0 => Err(format!("I see no {} here.", plural(noun))),
+        Number::Every if n > MAX_GROUP => Err(too_many(n)),
+        Number::Exactly(k) if n > k => Err(format!(
+            "I cannot tell which {} you mean: I see {}.",
+            counted(k, noun),
+            count_word(n)
+        )),
+        Number::Exactly(k) | Number::Any(k) if n < k => Err(format!(
+            "I see only {} here, not {}.",
+            counted(n, noun),
+            count_word(k)
+        )),
+        _ => Ok(choose(matches, wanted, most)),
+    }
+}
+
+/// Every choice of `k` of `items`, in lexicographic order of positions; at most `most`.
+fn choose(items: &[Term], k: usize, most: usize) -> Vec<Term> {
+    let mut out = Vec::new();
+    if k == 0 || k > items.len() {
+        return out;
+    }
+    let mut at: Vec<usize> = (0..k).collect();
+    loop {
+        if out.len() >= most {
+            return out;
+        }
+        out.push(group(at.iter().map(|&i| items[i].clone()).collect()));
+        // The rightmost position that can still move on, and those after it just behind it.
+        let Some(i) = (0..k).rev().find(|&i| at[i] < items.len() - k + i) else {
+            return out;
+        };
+        at[i] += 1;
+        for j in i + 1..k {
+            at[j] = at[j - 1] + 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plurals_and_singulars_agree() {
+        for noun in ["cup", "box", "dish", "glass", "knife", "berry", "child", "cash box", "toy", "shelf", "base"] {
+            let many = plural(noun);
+            let last = many.rsplit(' ').next().unwrap();
+            let one = noun.rsplit(' ').next().unwrap();
+            assert!(singulars(last).contains(&one.to_owned()), "{noun} → {many}");
+        }
+        assert_eq!(plural("cash box"), "cash boxes");
+        assert_eq!(plural("berry"), "berries");
+        assert_eq!(plural("toy"), "toys");
+        assert!(singulars("glass").is_empty());
+    }
+
+    #[test]
+    fn choices_are_every_combination_once_in_order() {
+        let items: Vec<Term> = ["a", "b", "c", "d"].iter().map(|s| Term::constant(s)).collect();
+        let two = choose(&items, 2, usize::MAX);
+        let shown: Vec<String> = two.iter().map(|t| objects_of(t).iter().map(|m| m.to_string()).collect()).collect();
+        assert_eq!(shown, ["ab", "ac", "ad", "bc", "bd", "cd"]);
+        assert_eq!(choose(&items, 4, usize::MAX).len(), 1);
+        assert_eq!(choose(&items, 2, 3).len(), 3);
+        assert!(choose(&items, 5, usize::MAX).is_empty());
+    }
+
+    #[test]
+    fn a_wrong_count_says_how_many_there_are() {
+        let cups: Vec<Term> = ["c1", "c2", "c3"].iter().map(|s| Term::constant(s)).collect();
+        assert_eq!(
+            groups(Number::Exactly(2), &cups, "cup", 10).unwrap_err(),
+            "I cannot tell which two cups you mean: I see three."
+        );
+        assert_eq!(
+            groups(Number::Exactly(2), &cups[..1], "cup", 10).unwrap_err(),
+            "I see only one cup here, not two."
+        );
+        assert_eq!(groups(Number::Any(2), &[], "cup", 10).unwrap_err(), "I see no cups here.");
+        assert_eq!(groups(Number::Every, &cups, "cup", 10).unwrap().len(), 1);
+        assert_eq!(groups(Number::Any(2), &cups, "cup", 10).unwrap().len(), 3);
+        assert_eq!(count_of("3"), Some(3));
+        assert_eq!(count_of("33"), None);
+        assert_eq!(count_of("+3"), None);
+    }
+}
