@@ -63,6 +63,12 @@ impl<'a> Fields<'a> {
             .transpose()
     }
 
+    fn flag(&self, key: &str) -> Result<Option<bool>> {
+        self.get(key)
+            .map(|v| v.as_bool().ok_or_else(|| format!("{}: not true or false", self.path(key))))
+            .transpose()
+    }
+
     fn list(&self, key: &str) -> Result<Vec<(String, &'a Value)>> {
         match self.get(key) {
             None => Ok(Vec::new()),
@@ -115,13 +121,16 @@ impl<'a> Fields<'a> {
 }
 
 fn reference(value: &Value, at: &str) -> Result<pb::Reference> {
-    let f = Fields::of(value, at, &["id", "type", "attributes", "properties", "relations"])?;
+    let known = ["id", "type", "attributes", "properties", "relations", "count", "all"];
+    let f = Fields::of(value, at, &known)?;
     Ok(pb::Reference {
         id: f.string("id")?,
         r#type: f.string("type")?,
         attributes: f.string_map("attributes")?,
         properties: f.strings("properties")?,
         relations: relations(&f)?,
+        count: f.count("count")?,
+        all: f.flag("all")?,
     })
 }
 
@@ -205,6 +214,8 @@ fn step(value: &Value, at: &str) -> Result<pb::Step> {
                 "attributes",
                 "properties",
                 "relations",
+                "count",
+                "all",
                 "step",
                 "argument",
             ];
@@ -215,6 +226,8 @@ fn step(value: &Value, at: &str) -> Result<pb::Step> {
                 attributes: a.string_map("attributes")?,
                 properties: a.strings("properties")?,
                 relations: relations(&a)?,
+                count: a.count("count")?,
+                all: a.flag("all")?,
                 step: a.count("step")?,
                 argument: a.count("argument")?,
             })

@@ -536,7 +536,10 @@ fn unplaced_words(unfound: &[Unfound]) -> Option<String> {
         return unfound.iter().find_map(|u| u.untold.clone());
     };
     let unplaced = u.unplaced.as_deref()?;
-    Some(format!("I do not understand \"{unplaced}\" in \"{}\".", u.words))
+    Some(match unplaced == u.words {
+        true => format!("I do not understand \"{unplaced}\"."),
+        false => format!("I do not understand \"{unplaced}\" in \"{}\".", u.words),
+    })
 }
 
 /// What the robot says to words that are not a directive; the same in both styles, since

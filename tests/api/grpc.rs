@@ -45,6 +45,8 @@ fn reference(r: &Value) -> pb::Reference {
                 to: rel.get("to").map(reference),
             })
             .collect(),
+        count: r["count"].as_u64(),
+        all: r["all"].as_bool(),
     }
 }
 
@@ -148,6 +150,8 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
                                     attributes: string_map(&a["attributes"]),
                                     properties: strings(&a["properties"]),
                                     relations: reference(a).relations,
+                                    count: a["count"].as_u64(),
+                                    all: a["all"].as_bool(),
                                     step: a["step"].as_u64(),
                                     argument: a["argument"].as_u64(),
                                 })

@@ -20,6 +20,7 @@ mod limits;
 mod migrations;
 mod never_drop;
 mod norms;
+mod number;
 mod observability;
 mod openapi;
 mod paper_demo;

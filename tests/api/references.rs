@@ -11,7 +11,7 @@ use crate::helpers::{assert_problem, spawn_app};
 
 /// The README's room: a table with two cups and a fork on it, a cup in a box (by `facts`), two
 /// boxes of different sizes.
-fn room() -> Value {
+pub(crate) fn room() -> Value {
     json!({"agent": {"position": [0, 0, 0.75], "reach": 1.2},
      "objects": [
        {"id": "table1", "type": "table", "position": [0.7, 0, 0.4], "shape": {"cuboid": {"half_extents": [0.3, 0.5, 0.4]}}},

@@ -24,6 +24,7 @@ mod feasibility;
 mod fixtures;
 mod norms;
 mod number;
+mod number_props;
 mod ordering;
 mod paper;
 mod plans;

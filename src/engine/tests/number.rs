@@ -60,6 +60,11 @@ fn every_number_word_with_a_case_it_takes_and_one_it_refuses() {
         ("Get both notebook.", none(Unresolved, "I do not understand \"both\" in \"both notebook\".")),
         ("Get some notebooks.", none(Unresolved, "I do not understand \"some\" in \"some notebooks\".")),
         ("Get a notebooks.", none(Unresolved, "I do not understand \"notebooks\" in \"a notebooks\".")),
+        // Every notebook or every vase is not one object of either.
+        (
+            "Get the notebooks or the vases.",
+            none(Unresolved, "I do not understand \"the notebooks or the vases\"."),
+        ),
     ];
     for (text, expected) in cases {
         assert_eq!(&said(text, &lab, &norms(&[])), expected, "{text}");

@@ -75,6 +75,17 @@ pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
                 false => reference(part, lexicon).reference,
             })
             .collect();
+        // "the cups or the mugs" would be every cup or every mug: one object of either is not
+        // what was said, and the choice between the groups is not read.
+        if options.iter().any(|o| o.number().is_some()) {
+            return Phrase {
+                reference: Reference::Nothing {
+                    words: words.clone(),
+                    unplaced: Some(words.clone()),
+                },
+                words,
+            };
+        }
         return Phrase {
             reference: Reference::Either {
                 options,
