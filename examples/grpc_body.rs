@@ -65,7 +65,10 @@ impl<'a> Fields<'a> {
 
     fn flag(&self, key: &str) -> Result<Option<bool>> {
         self.get(key)
-            .map(|v| v.as_bool().ok_or_else(|| format!("{}: not true or false", self.path(key))))
+            .map(|v| {
+                v.as_bool()
+                    .ok_or_else(|| format!("{}: not true or false", self.path(key)))
+            })
             .transpose()
     }
 

@@ -12,8 +12,8 @@ use rustc_hash::FxHashMap;
 mod relational;
 
 use super::action::Library;
-use super::scene::{Object, Scene, spoken, spoken_onto};
 use super::resolve::{members, plural};
+use super::scene::{Object, Scene, spoken, spoken_onto};
 use super::term::{Sym, Term};
 
 /// A distinguishing feature of an object.

@@ -145,7 +145,7 @@ impl Reference {
     /// its parts. Fields named relative to the reference.
     /// `count` and `all` make it plural.
     pub fn from_input(mut input: ReferenceInput, scene: &Scene) -> Result<Reference, Invalid> {
-        let number = Reference::number_input(&mut input)?;
+        let number = number::of_input(&mut input)?;
         let mut budget = MAX_RELATIONS;
         let reference = Reference::from_input_within(input, scene, &mut budget)?;
         let Some(number) = number else {
@@ -164,45 +164,10 @@ impl Reference {
         };
         let all = reference.words(scene);
         let rest = all.strip_prefix(plain.as_str()).unwrap_or_default();
-        let described = plain.strip_prefix("the ").unwrap_or(&plain);
-        let words = match number {
-            Number::Every => format!("the {}{rest}", plural(described)),
-            Number::Exactly(k) => format!("the {} {}{rest}", number::count_word(k), plural(described)),
-            Number::Any(1) => format!("one {described}{rest}"),
-            Number::Any(k) => format!("{} {}{rest}", number::count_word(k), plural(described)),
-        };
         Ok(Reference::Plural {
+            words: number.words(&plain, rest),
             base: Box::new(reference),
             number,
-            words,
-        })
-    }
-
-    /// The number `count` and `all` give, checked; taken out of `input`.
-    fn number_input(input: &mut ReferenceInput) -> Result<Option<Number>, Invalid> {
-        let (count, all) = (input.count.take(), input.all.take());
-        if input.id.is_some() && (count.is_some() || all == Some(true)) {
-            let field = if count.is_some() { "/count" } else { "/all" };
-            return Err(Invalid::new(
-                field,
-                "an `id` names one object; `count` and `all` go with a description",
-            ));
-        }
-        let count = match count {
-            None => None,
-            Some(n) if (1..=MAX_GROUP as u64).contains(&n) => Some(n as usize),
-            Some(n) => {
-                return Err(Invalid::new(
-                    "/count",
-                    format!("`count` is 1 to {MAX_GROUP} objects at once, not {n}"),
-                ));
-            }
-        };
-        Ok(match (all == Some(true), count) {
-            (true, Some(k)) => Some(Number::Exactly(k)),
-            (true, None) => Some(Number::Every),
-            (false, Some(k)) => Some(Number::Any(k)),
-            (false, None) => None,
         })
     }
 

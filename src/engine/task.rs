@@ -230,7 +230,10 @@ impl Shape {
                 None => acts.push((i, act(&|s| values[s].clone()))),
                 Some(&plural) => {
                     for member in objects_of(&values[plural]) {
-                        acts.push((i, act(&|s| if s == plural { member.clone() } else { values[s].clone() })));
+                        acts.push((
+                            i,
+                            act(&|s| if s == plural { member.clone() } else { values[s].clone() }),
+                        ));
                     }
                 }
             }

@@ -29,7 +29,10 @@ async fn the_readmes_plurals_are_decided_as_it_says() {
     assert_eq!(answer["goal"], "did(self,and(get(cup1),get(cup2)))");
     let answer = app.clarify(&said("Get both cups.")).await;
     assert_eq!(answer["decision"], "unresolved");
-    assert_eq!(answer["utterance"], "I cannot tell which two cups you mean: I see three.");
+    assert_eq!(
+        answer["utterance"],
+        "I cannot tell which two cups you mean: I see three."
+    );
     let answer = app.clarify(&said("Get two cups.")).await;
     assert_eq!(answer["decision"], "assume");
     assert_eq!(
@@ -84,8 +87,7 @@ async fn structured_count_and_all_decide_as_the_words_over_rest_and_grpc() {
         "scene": room()});
     let answer = app.clarify(&steps).await;
     assert_eq!(
-        answer["goal"],
-        "did(self,and(get(cup1),get(cup2),get(cup3),put(cup1,box1),put(cup2,box1),put(cup3,box1)))",
+        answer["goal"], "did(self,and(get(cup1),get(cup2),get(cup3),put(cup1,box1),put(cup2,box1),put(cup3,box1)))",
         "{answer}"
     );
     let bad = cups(json!({"count": 0}));

@@ -7,6 +7,8 @@
 
 use std::sync::LazyLock;
 
+use super::ReferenceInput;
+use crate::engine::input::Invalid;
 use crate::engine::term::{Sym, Term};
 
 /// How many of its matches a plural reference means.
@@ -23,6 +25,48 @@ pub enum Number {
 /// The most objects one plural reference may act on at once: a reading's plan has a step for
 /// each, and a step names at most one plural.
 pub const MAX_GROUP: usize = 32;
+
+/// The number `count` and `all` give, checked; taken out of `input`.
+pub(super) fn of_input(input: &mut ReferenceInput) -> Result<Option<Number>, Invalid> {
+    let (count, all) = (input.count.take(), input.all.take());
+    if input.id.is_some() && (count.is_some() || all == Some(true)) {
+        let field = if count.is_some() { "/count" } else { "/all" };
+        return Err(Invalid::new(
+            field,
+            "an `id` names one object; `count` and `all` go with a description",
+        ));
+    }
+    let count = match count {
+        None => None,
+        Some(n) if (1..=MAX_GROUP as u64).contains(&n) => Some(n as usize),
+        Some(n) => {
+            return Err(Invalid::new(
+                "/count",
+                format!("`count` is 1 to {MAX_GROUP} objects at once, not {n}"),
+            ));
+        }
+    };
+    Ok(match (all == Some(true), count) {
+        (true, Some(k)) => Some(Number::Exactly(k)),
+        (true, None) => Some(Number::Every),
+        (false, Some(k)) => Some(Number::Any(k)),
+        (false, None) => None,
+    })
+}
+
+impl Number {
+    /// The words of a description said of several: "the red cup" as "the two red cups"; `rest`
+    /// (its relations' words, " on the table") after.
+    pub(super) fn words(self, plain: &str, rest: &str) -> String {
+        let described = plain.strip_prefix("the ").unwrap_or(plain);
+        match self {
+            Number::Every => format!("the {}{rest}", plural(described)),
+            Number::Exactly(k) => format!("the {} {}{rest}", count_word(k), plural(described)),
+            Number::Any(1) => format!("one {described}{rest}"),
+            Number::Any(k) => format!("{} {}{rest}", count_word(k), plural(described)),
+        }
+    }
+}
 
 /// The functor of a group's term (`&(c1,c2)`): a name no object or verb can have, so a group
 /// is never read as either.
@@ -127,10 +171,15 @@ pub fn count_word(n: usize) -> String {
 
 /// The number a word says, 1 to [`MAX_GROUP`]: "two", "3".
 pub fn count_of(word: &str) -> Option<usize> {
-    const WORDS: [&str; 10] = ["one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten"];
+    const WORDS: [&str; 10] = [
+        "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+    ];
     let n = match WORDS.iter().position(|w| *w == word) {
         Some(i) => i + 1,
-        None => word.parse::<usize>().ok().filter(|_| word.bytes().all(|b| b.is_ascii_digit()))?,
+        None => word
+            .parse::<usize>()
+            .ok()
+            .filter(|_| word.bytes().all(|b| b.is_ascii_digit()))?,
     };
     (1..=MAX_GROUP).contains(&n).then_some(n)
 }
@@ -166,11 +215,9 @@ pub(super) fn groups(number: Number, matches: &[Term], noun: &str, most: usize) 
             counted(k, noun),
             count_word(n)
         )),
-        Number::Exactly(k) | Number::Any(k) if n < k => Err(format!(
-            "I see only {} here, not {}.",
-            counted(n, noun),
-            count_word(k)
-        )),
+        Number::Exactly(k) | Number::Any(k) if n < k => {
+            Err(format!("I see only {} here, not {}.", counted(n, noun), count_word(k)))
+        }
         _ => Ok(choose(matches, wanted, most)),
     }
 }
@@ -204,7 +251,9 @@ mod tests {
 
     #[test]
     fn plurals_and_singulars_agree() {
-        for noun in ["cup", "box", "dish", "glass", "knife", "berry", "child", "cash box", "toy", "shelf", "base"] {
+        for noun in [
+            "cup", "box", "dish", "glass", "knife", "berry", "child", "cash box", "toy", "shelf", "base",
+        ] {
             let many = plural(noun);
             let last = many.rsplit(' ').next().unwrap();
             let one = noun.rsplit(' ').next().unwrap();
@@ -220,7 +269,10 @@ mod tests {
     fn choices_are_every_combination_once_in_order() {
         let items: Vec<Term> = ["a", "b", "c", "d"].iter().map(|s| Term::constant(s)).collect();
         let two = choose(&items, 2, usize::MAX);
-        let shown: Vec<String> = two.iter().map(|t| objects_of(t).iter().map(|m| m.to_string()).collect()).collect();
+        let shown: Vec<String> = two
+            .iter()
+            .map(|t| objects_of(t).iter().map(|m| m.to_string()).collect())
+            .collect();
         assert_eq!(shown, ["ab", "ac", "ad", "bc", "bd", "cd"]);
         assert_eq!(choose(&items, 4, usize::MAX).len(), 1);
         assert_eq!(choose(&items, 2, 3).len(), 3);
@@ -238,7 +290,10 @@ mod tests {
             groups(Number::Exactly(2), &cups[..1], "cup", 10).unwrap_err(),
             "I see only one cup here, not two."
         );
-        assert_eq!(groups(Number::Any(2), &[], "cup", 10).unwrap_err(), "I see no cups here.");
+        assert_eq!(
+            groups(Number::Any(2), &[], "cup", 10).unwrap_err(),
+            "I see no cups here."
+        );
         assert_eq!(groups(Number::Every, &cups, "cup", 10).unwrap().len(), 1);
         assert_eq!(groups(Number::Any(2), &cups, "cup", 10).unwrap().len(), 3);
         assert_eq!(count_of("3"), Some(3));

@@ -54,12 +54,27 @@ fn every_number_word_with_a_case_it_takes_and_one_it_refuses() {
         // Any that many: one choice here.
         ("Get two notebooks.", goal(Comply, both, "Okay.")),
         ("Get two of the notebooks.", goal(Comply, both, "Okay.")),
-        ("Get three notebooks.", none(Unresolved, "I see only two notebooks here, not three.")),
+        (
+            "Get three notebooks.",
+            none(Unresolved, "I see only two notebooks here, not three."),
+        ),
         // The quantifier must agree with its noun, and a count it does not know is not read.
-        ("Get every notebooks.", none(Unresolved, "I do not understand \"every\" in \"every notebooks\".")),
-        ("Get both notebook.", none(Unresolved, "I do not understand \"both\" in \"both notebook\".")),
-        ("Get some notebooks.", none(Unresolved, "I do not understand \"some\" in \"some notebooks\".")),
-        ("Get a notebooks.", none(Unresolved, "I do not understand \"notebooks\" in \"a notebooks\".")),
+        (
+            "Get every notebooks.",
+            none(Unresolved, "I do not understand \"every\" in \"every notebooks\"."),
+        ),
+        (
+            "Get both notebook.",
+            none(Unresolved, "I do not understand \"both\" in \"both notebook\"."),
+        ),
+        (
+            "Get some notebooks.",
+            none(Unresolved, "I do not understand \"some\" in \"some notebooks\"."),
+        ),
+        (
+            "Get a notebooks.",
+            none(Unresolved, "I do not understand \"notebooks\" in \"a notebooks\"."),
+        ),
         // Every notebook or every vase is not one object of either.
         (
             "Get the notebooks or the vases.",
@@ -74,7 +89,10 @@ fn every_number_word_with_a_case_it_takes_and_one_it_refuses() {
 #[test]
 fn both_says_how_many_there_are_when_there_are_more() {
     let d = said("Get both vases.", &three_vases(), &norms(&[]));
-    assert_eq!(d, none(Unresolved, "I cannot tell which two vases you mean: I see three."));
+    assert_eq!(
+        d,
+        none(Unresolved, "I cannot tell which two vases you mean: I see three.")
+    );
     // The count is of what the whole reference selects: two of the three are plain.
     let d = said("Get the two vases that are not fragile.", &three_vases(), &norms(&[]));
     assert_eq!(d.0, Comply, "{d:?}");
@@ -119,14 +137,19 @@ fn a_plural_is_spoken_as_its_objects_and_them_after_it() {
         d.goal.as_ref().map(Term::to_string).as_deref(),
         Some("did(self,and(get(object1),get(object2),put(object1,object5),put(object2,object5)))")
     );
-    assert_eq!(d.interpretations[0].description, "get both notebooks and put them on the mug");
+    assert_eq!(
+        d.interpretations[0].description,
+        "get both notebooks and put them on the mug"
+    );
     // Two of three vases, listed: each choice is its objects.
     let d = run(&words("Get two vases."), &three_vases(), &norms(&[]));
     assert_eq!(d.kind, Assume, "{}", d.utterance);
     let descriptions: Vec<&str> = d.interpretations.iter().map(|i| i.description.as_str()).collect();
     assert_eq!(descriptions.len(), 3, "{descriptions:?}");
     assert!(
-        descriptions.iter().all(|w| w.starts_with("get the ") && w.contains(" and the ")),
+        descriptions
+            .iter()
+            .all(|w| w.starts_with("get the ") && w.contains(" and the ")),
         "{descriptions:?}"
     );
 }
@@ -136,7 +159,11 @@ fn two_plurals_in_one_step_are_not_guessed_into_pairs() {
     let d = run(&words("Put the notebooks on the vases."), &lab(), &norms(&[]));
     assert_eq!(shown(&d), none(NotUnderstood, "I did not understand \"the vases\"."));
     // "them" after a plural is that plural: a second one in the same step is refused too.
-    let d = run(&words("Get the notebooks and put them on the vases."), &lab(), &norms(&[]));
+    let d = run(
+        &words("Get the notebooks and put them on the vases."),
+        &lab(),
+        &norms(&[]),
+    );
     assert_eq!(d.kind, NotUnderstood, "{}", d.utterance);
 }
 

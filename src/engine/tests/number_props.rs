@@ -25,7 +25,14 @@ fn room(drawn: &[Drawn]) -> Scene {
             let properties: &[&str] = if fragile { &["fragile"] } else { &[] };
             let x = if near { 0.5 } else { 3.0 };
             let position = [x, 0.1 * i as f64 - 0.4, 0.8];
-            obj(&format!("o{i}"), KINDS[kind], properties, &[("color", COLOURS[colour])], position, None)
+            obj(
+                &format!("o{i}"),
+                KINDS[kind],
+                properties,
+                &[("color", COLOURS[colour])],
+                position,
+                None,
+            )
         })
         .collect();
     scene(objects, &[])
@@ -75,11 +82,19 @@ fn plural(kind: &str) -> String {
 /// The words of form `form` for kind `k` and colour `c`; with `unknown`, a word no scene knows
 /// as an adjective.
 fn said(form: usize, k: &str, c: &str, unknown: bool) -> String {
-    let words = FORMS[form].0.replace("{ks}", &plural(k)).replace("{k}", k).replace("{c}", c);
+    let words = FORMS[form]
+        .0
+        .replace("{ks}", &plural(k))
+        .replace("{k}", k)
+        .replace("{c}", c);
     if !unknown {
         return words;
     }
-    let noun = if words.contains(&plural(k)) { plural(k) } else { k.to_owned() };
+    let noun = if words.contains(&plural(k)) {
+        plural(k)
+    } else {
+        k.to_owned()
+    };
     words.replacen(&noun, &format!("zorpy {noun}"), 1)
 }
 
