@@ -334,6 +334,18 @@ impl PurposeShape {
         if lists.is_empty() || lists.iter().any(Vec::is_empty) {
             return true;
         }
+        // "to smash them": an argument that is a plural of the reading's is said as the group.
+        let group =
+            |a: &PurposeArgument| matches!(a, PurposeArgument::Slot(s) if values.get(*s).and_then(members).is_some());
+        let said = match self.arguments.iter().any(group) {
+            false => self.said.clone(),
+            true => (self.said.iter().zip(&self.arguments))
+                .map(|(words, a)| match group(a) {
+                    true => Some("them".to_owned()),
+                    false => words.clone(),
+                })
+                .collect(),
+        };
         let mut choice = vec![0usize; lists.len()];
         let mut n = 0usize;
         loop {
@@ -345,7 +357,7 @@ impl PurposeShape {
                 &self.verb,
                 choice.iter().zip(&lists).map(|(&i, l)| l[i].clone()).collect(),
             );
-            for reason in purpose_reasons(env, world, &purpose, &self.said) {
+            for reason in purpose_reasons(env, world, &purpose, &said) {
                 outcome.push(reason);
             }
             // The next combination, the last list fastest.

@@ -218,8 +218,21 @@ pub(super) fn groups(number: Number, matches: &[Term], noun: &str, most: usize) 
         Number::Exactly(k) | Number::Any(k) if n < k => {
             Err(format!("I see only {} here, not {}.", counted(n, noun), count_word(k)))
         }
+        // More choices than may be read: only their count is looked at (the readings are too
+        // many to simulate), so they are one group's term, shared, not each made.
+        _ if choices(n, wanted) > most as u128 => Ok(vec![group(matches[..wanted].to_vec()); most]),
         _ => Ok(choose(matches, wanted, most)),
     }
+}
+
+/// How many ways there are to choose `k` of `n`, saturating.
+fn choices(n: usize, k: usize) -> u128 {
+    let k = k.min(n - k.min(n));
+    (0..k).fold(1u128, |c, i| {
+        // c · (n − i) / (i + 1) is whole at each step; past u128 it saturates.
+        c.checked_mul((n - i) as u128)
+            .map_or(u128::MAX, |c| c / (i as u128 + 1))
+    })
 }
 
 /// Every choice of `k` of `items`, in lexicographic order of positions; at most `most`.
@@ -276,6 +289,10 @@ mod tests {
         assert_eq!(shown, ["ab", "ac", "ad", "bc", "bd", "cd"]);
         assert_eq!(choose(&items, 4, usize::MAX).len(), 1);
         assert_eq!(choose(&items, 2, 3).len(), 3);
+        assert_eq!(choices(4, 2), 6);
+        assert_eq!(choices(10_000, 2), 49_995_000);
+        assert_eq!(choices(10_000, 32), u128::MAX);
+        assert_eq!(choices(5, 5), 1);
         assert!(choose(&items, 5, usize::MAX).is_empty());
     }
 

@@ -237,3 +237,63 @@ fn a_group_larger_than_a_plan_may_hold_is_said_not_cut() {
     let d = run(&words("Get two cups."), &many, &norms(&[]));
     assert_eq!(d.kind, Assume, "{}", d.utterance);
 }
+
+/// Found by this feature's own hostile pass.
+#[test]
+fn what_a_hostile_pass_of_number_found() {
+    let lab = lab();
+    for (text, expected) in [
+        // A plural of anything at all is not a reference to act on.
+        ("Get every one.", "I do not understand \"every one\"."),
+        ("Get the ones.", "I do not understand \"the ones\"."),
+        // A count past what may be read, and a count with a superlative, are said back.
+        ("Get 40 notebooks.", "I do not understand \"40\" in \"40 notebooks\"."),
+        (
+            "Get the two biggest notebooks.",
+            "I do not understand \"the two\" in \"the two biggest notebooks\".",
+        ),
+    ] {
+        assert_eq!(said(text, &lab, &norms(&[])), none(Unresolved, expected), "{text}");
+    }
+    // "the 2 box": a number that is an attribute's value is still read as one.
+    let sized = scene(
+        vec![
+            obj("b1", "box", &[], &[("size", "2")], [0.5, 0.1, 0.8], None),
+            obj("b2", "box", &[], &[("size", "3")], [0.5, -0.1, 0.8], None),
+        ],
+        &[],
+    );
+    assert_eq!(
+        said("Get the 2 box.", &sized, &norms(&[])),
+        goal(Comply, "did(self,get(b1))", "Okay.")
+    );
+    // A purpose said of a plural is said of the group.
+    let d = said(
+        "Get the vases to smash them.",
+        &lab,
+        &norms(&[when(fa("destroy(X)"), &["fragile(X)"])]),
+    );
+    assert_eq!(d.0, Refuse);
+    assert!(
+        d.2.starts_with("I cannot get both vases to destroy them because"),
+        "{}",
+        d.2
+    );
+}
+
+#[test]
+fn two_of_ten_thousand_is_too_many_to_read_and_asks_which() {
+    let objects: Vec<Object> = (0..10_000)
+        .map(|i| obj(&format!("c{i}"), "cup", &[], &[], [0.5, 0.0001 * i as f64, 0.8], None))
+        .collect();
+    let many = scene(objects, &[]);
+    for text in ["Get two cups.", "Get 32 cups."] {
+        let d = run(&words(text), &many, &norms(&[]));
+        assert_eq!(d.kind, Ask, "{text}: {}", d.utterance);
+        assert!(d.goal.is_none() && d.offered.is_empty());
+    }
+    assert_eq!(
+        said("Get the two cups.", &many, &norms(&[])),
+        none(Unresolved, "I cannot tell which two cups you mean: I see 10000.")
+    );
+}

@@ -203,7 +203,26 @@ pub(super) fn related(span: &[String], lexicon: &Lexicon) -> Option<Phrase> {
         return nothing(Some(words.clone()));
     }
     let mut heads: Vec<Head> = nodes.iter().map(|n| head(span, n, lexicon)).collect();
-    let counted = heads.iter().any(|h| h.number.is_some()) || quantifier(&span[nodes[0].start..nodes[0].end]).is_some();
+    // A count said, read or not ("40 cups" is one past what may be read).
+    let counted = heads.iter().any(|h| h.number.is_some())
+        || quantifier(&span[nodes[0].start..nodes[0].end]).is_some()
+        || span[nodes[0].start].bytes().all(|b| b.is_ascii_digit());
+    // "every one", "the ones": a plural of anything at all is not a reference to act on.
+    if relations.is_empty()
+        && heads[0].number.is_some()
+        && heads[0].pick.is_none()
+        && let Reference::Spoken {
+            kinds,
+            named,
+            adjectives,
+            ..
+        } = &heads[0].reference
+        && kinds.is_empty()
+        && named.is_empty()
+        && adjectives.is_empty()
+    {
+        return nothing(Some(words.clone()));
+    }
     if relations.is_empty() && !picked && !counted && nodes[0].direction.is_none() {
         return None;
     }
@@ -270,6 +289,8 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
         Some((number, n, plural)) => (Some(number), &said[n..], plural),
         None => (None, &said[determiner..], false),
     };
+    // The quantifier as said ("the two", "both of the"), to say back where it is not read.
+    let quantified = said[..said.len() - body.len()].join(" ");
     let mut pick = None;
     if let Some(first) = body.first() {
         if let Some((word, superlative)) = SUPERLATIVES.iter().find(|(w, _)| w == first) {
@@ -291,7 +312,7 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
     }
     // "the two biggest boxes", "the first two cups": a count with a pick is not read.
     if matches!(number, Some(Number::Exactly(_) | Number::Any(_))) && pick.is_some() {
-        return nothing(Some(said[0].clone()));
+        return nothing(Some(quantified));
     }
     let indefinite = number.is_none() && determiner == 1 && ["a", "an", "any"].contains(&said[0].as_str());
     // A noun in the plural is every match, after a determiner that may say so ("the cups").
@@ -312,7 +333,7 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
             number,
         };
     }
-    let found = match plural {
+    let mut found = match plural {
         true => described_plural(body, lexicon),
         false => described(body, lexicon).or_else(|| {
             let found = plural_said.then(|| described_plural(body, lexicon)).flatten()?;
@@ -320,6 +341,14 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
             Some(found)
         }),
     };
+    // "the 2 box": a number that is an attribute's value, where no count agrees with the noun.
+    if found.is_none()
+        && number.is_some()
+        && pick.is_none()
+        && let Some(plain) = described(&said[determiner..], lexicon)
+    {
+        (number, found, body) = (None, Some(plain), &said[determiner..]);
+    }
     let reference = if body == ["one"] && !plural {
         // "the one on the table": any object the rest says.
         any_one(&words)
@@ -335,8 +364,10 @@ fn head(span: &[String], node: &Node, lexicon: &Lexicon) -> Head {
             None if body.is_empty() => return nothing(None),
             // "both cup", "every cups": the number said back, as what did not agree.
             None if number.is_some() && described(body, lexicon).or(described_plural(body, lexicon)).is_some() => {
-                return nothing(Some(said[0].clone()));
+                return nothing(Some(quantified));
             }
+            // "40 cups": a count past what a plural may act on at once is not read.
+            None if body[0].bytes().all(|b| b.is_ascii_digit()) => return nothing(Some(body[0].clone())),
             None => return nothing(unplaced(body, lexicon)),
         }
     };
