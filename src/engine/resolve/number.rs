@@ -112,6 +112,9 @@ const IRREGULAR: &[(&str, &str)] = &[
     ("half", "halves"),
     ("wolf", "wolves"),
     ("scarf", "scarves"),
+    ("potato", "potatoes"),
+    ("tomato", "tomatoes"),
+    ("mango", "mangoes"),
 ];
 
 /// The plural of a spoken noun: its last word made plural ("cash boxes", "knives", "berries").
@@ -138,27 +141,23 @@ pub fn plural(noun: &str) -> String {
 }
 
 /// The singulars a word may be the plural of, likeliest first: the caller keeps the first that
-/// names something. A word that is no plural has none.
+/// names something. Only a plural [`plural`] would say is one: "boxs" and "vasees" are not.
 pub fn singulars(word: &str) -> Vec<String> {
     if let Some((one, _)) = IRREGULAR.iter().find(|(_, many)| *many == word) {
         return vec![(*one).to_owned()];
     }
-    let mut out = Vec::new();
-    if let Some(stem) = word.strip_suffix("ies").filter(|s| !s.is_empty()) {
-        out.push(format!("{stem}y"));
+    let mut stems = Vec::new();
+    if let Some(stem) = word.strip_suffix('s') {
+        stems.push(stem.to_owned());
     }
-    if let Some(stem) = word.strip_suffix("ves").filter(|s| !s.is_empty()) {
-        out.push(format!("{stem}f"));
-        out.push(format!("{stem}fe"));
+    if let Some(stem) = word.strip_suffix("es") {
+        stems.push(stem.to_owned());
     }
-    // "bases" is "base"; "boxes" is "box"; "glass" is no plural.
-    if let Some(stem) = word.strip_suffix('s').filter(|s| !s.is_empty() && !s.ends_with('s')) {
-        out.push(stem.to_owned());
+    if let Some(stem) = word.strip_suffix("ies") {
+        stems.push(format!("{stem}y"));
     }
-    if let Some(stem) = word.strip_suffix("es").filter(|s| !s.is_empty()) {
-        out.push(stem.to_owned());
-    }
-    out
+    stems.retain(|stem| !stem.is_empty() && plural(stem) == word);
+    stems
 }
 
 /// A count in words: "one" to "ten", then digits.
@@ -276,6 +275,16 @@ mod tests {
         assert_eq!(plural("berry"), "berries");
         assert_eq!(plural("toy"), "toys");
         assert!(singulars("glass").is_empty());
+        for not_a_plural in ["boxs", "vasees", "berrys", "knifes", "s", "es"] {
+            assert!(
+                !singulars(not_a_plural)
+                    .iter()
+                    .any(|one| ["box", "vase", "berry", "knife"].contains(&one.as_str())),
+                "{not_a_plural}: {:?}",
+                singulars(not_a_plural)
+            );
+        }
+        assert_eq!(singulars("potatoes"), ["potato"]);
     }
 
     #[test]
