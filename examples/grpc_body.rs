@@ -39,37 +39,27 @@ impl<'a> Fields<'a> {
     }
 
     fn string(&self, key: &str) -> Result<Option<String>> {
+        self.typed(key, |v| v.as_str().map(str::to_owned), "not a string")
+    }
+
+    /// The value at `key` as `read` takes it, `what` naming what it must be; absent when
+    /// missing or null.
+    fn typed<T>(&self, key: &str, read: fn(&Value) -> Option<T>, what: &str) -> Result<Option<T>> {
         self.get(key)
-            .map(|v| {
-                v.as_str()
-                    .map(str::to_owned)
-                    .ok_or_else(|| format!("{}: not a string", self.path(key)))
-            })
+            .map(|v| read(v).ok_or_else(|| format!("{}: {what}", self.path(key))))
             .transpose()
     }
 
     fn number(&self, key: &str) -> Result<Option<f64>> {
-        self.get(key)
-            .map(|v| v.as_f64().ok_or_else(|| format!("{}: not a number", self.path(key))))
-            .transpose()
+        self.typed(key, Value::as_f64, "not a number")
     }
 
     fn count(&self, key: &str) -> Result<Option<u64>> {
-        self.get(key)
-            .map(|v| {
-                v.as_u64()
-                    .ok_or_else(|| format!("{}: not a whole number ≥ 0", self.path(key)))
-            })
-            .transpose()
+        self.typed(key, Value::as_u64, "not a whole number ≥ 0")
     }
 
     fn flag(&self, key: &str) -> Result<Option<bool>> {
-        self.get(key)
-            .map(|v| {
-                v.as_bool()
-                    .ok_or_else(|| format!("{}: not true or false", self.path(key)))
-            })
-            .transpose()
+        self.typed(key, Value::as_bool, "not true or false")
     }
 
     fn list(&self, key: &str) -> Result<Vec<(String, &'a Value)>> {

@@ -442,6 +442,15 @@ fn unwrap_form(form: &Term, agent: &str) -> Result<(Option<Sym>, Term), String> 
 }
 
 impl Directive {
+    /// The first argument (step, argument) that is a second plural in its step
+    /// ([`Task::second_plural`]); an action is step 0.
+    pub fn second_plural(&self) -> Option<(usize, usize)> {
+        match self {
+            Directive::Task(task) => task.second_plural(),
+            one => one.plural_action()?.second_plural(),
+        }
+    }
+
     /// An action with a plural argument, as the task of one step it is: the step makes an act
     /// per object ([`Task`]); `None` for any other directive.
     pub fn plural_action(&self) -> Option<Task> {
@@ -514,17 +523,15 @@ impl Directive {
                     .map(|(i, r)| Reference::from_input(r, scene).map_err(|e| e.within(&format!("/arguments/{i}"))))
                     .collect::<Result<_, _>>()?;
                 let joiner = input.joiner.map(joiner_word).transpose()?;
-                if let Some(j) = second_plural(&arguments) {
+                let directive = Directive::Action {
+                    verb,
+                    arguments,
+                    joiner,
+                };
+                if let Some((_, j)) = directive.second_plural() {
                     return Err(Invalid::new(format!("/arguments/{j}"), ONE_PLURAL));
                 }
-                Ok((
-                    Directive::Action {
-                        verb,
-                        arguments,
-                        joiner,
-                    },
-                    None,
-                ))
+                Ok((directive, None))
             }
             (None, Some(text)) => {
                 if input.arguments.is_some() {
@@ -552,14 +559,6 @@ impl Directive {
 /// Why a step may not have two plural arguments.
 const ONE_PLURAL: &str = "a step names at most one plural argument (`count` or `all`): \
     which object goes with which is not guessed";
-
-/// The position of the second plural among an action's arguments, if any.
-fn second_plural(arguments: &[Reference]) -> Option<usize> {
-    (arguments.iter().enumerate())
-        .filter(|(_, a)| a.number().is_some())
-        .nth(1)
-        .map(|(j, _)| j)
-}
 
 /// A joiner as a client gives it: one lower-case word.
 fn joiner_word(joiner: String) -> Result<String, Invalid> {

@@ -474,7 +474,8 @@ pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> b
         .collect();
     let noun = reference.noun().unwrap_or_else(|| common_noun(scene, &objects));
     let mut untold = selected.untold;
-    let (candidates, noun) = match reference.number() {
+    let number = reference.number();
+    let (candidates, noun) = match number {
         None => (objects, noun),
         // Nothing found says why as a singular would, unless the count is what is wrong.
         Some(_) if objects.is_empty() && (untold.is_some() || reference.names_nothing() || expired()) => {
@@ -498,7 +499,7 @@ pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> b
         words: reference.words(scene),
         noun,
         unplaced: reference.unplaced(),
-        group: reference.number().is_some(),
+        group: number.is_some(),
     }
 }
 

@@ -241,6 +241,14 @@ impl Shape {
         acts
     }
 
+    /// The step each act of [`Shape::acts`] is of, counted without making the acts.
+    fn step_of_each_act(&self, values: &[Term]) -> Vec<usize> {
+        let acts = |slots: &Vec<usize>| slots.iter().find_map(|&s| members(&values[s]).map(<[Term]>::len));
+        (self.steps.iter().enumerate())
+            .flat_map(|(i, (_, slots))| std::iter::repeat_n(i, acts(slots).unwrap_or(1)))
+            .collect()
+    }
+
     /// A reading's action from its slots' values: its one act, else `and(A1,A2,…)`, the acts
     /// in order ([`Shape::acts`]).
     pub(super) fn action(&self, values: &[Term]) -> Term {
@@ -288,7 +296,7 @@ impl Shape {
     pub(super) fn simulate(&self, env: &Env<'_>, world: &World, action: &Term, values: &[Term]) -> (Outcome, Term) {
         let mut outcome = Outcome::default();
         let mut world = world.clone();
-        let of: Vec<usize> = self.acts(values).into_iter().map(|(step, _)| step).collect();
+        let of = self.step_of_each_act(values);
         let acts = match of.len() {
             1 => std::slice::from_ref(action),
             _ => action.args(),

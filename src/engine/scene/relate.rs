@@ -78,17 +78,12 @@ impl Relation {
         }
     }
 
-    /// The relations of place, in the contract's order: every one but "from", a source.
-    pub const PLACES: &'static [Relation] = &[
-        Relation::On,
-        Relation::In,
-        Relation::Under,
-        Relation::Near,
-        Relation::LeftOf,
-        Relation::RightOf,
-        Relation::Behind,
-        Relation::InFrontOf,
-    ];
+    /// The relations of place, in the contract's order: every one but "from", a source (the
+    /// last of [`Relation::ALL`]).
+    pub const PLACES: &'static [Relation] = match Relation::ALL.split_last() {
+        Some((Relation::From, places)) => places,
+        _ => panic!("Relation::ALL ends with From"),
+    };
 
     pub fn from_name(name: &str) -> Option<Relation> {
         Relation::ALL.into_iter().find(|r| r.name() == name)

@@ -416,11 +416,7 @@ pub(super) fn assemble(clauses: Vec<Clause>, addressee: Option<String>, topic: O
         })
     };
     // "Put the cups on the plates.": which cup goes on which plate is not guessed.
-    let second = match &directive {
-        Directive::Task(task) => task.second_plural(),
-        one => one.plural_action().and_then(|task| task.second_plural()),
-    };
-    if let Some((i, j)) = second {
+    if let Some((i, j)) = directive.second_plural() {
         return Understanding::NotUnderstood {
             why: Unclear::Unplaced,
             words: steps[i].arguments[j].phrase.words.clone(),
