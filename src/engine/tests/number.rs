@@ -255,6 +255,14 @@ fn what_a_hostile_pass_of_number_found() {
     ] {
         assert_eq!(said(text, &lab, &norms(&[])), none(Unresolved, expected), "{text}");
     }
+    // An "and" after an exclusion is the exclusion's: nothing it leaves out is acted on.
+    for text in [
+        "Get all notebooks except the red one and the green one.",
+        "Get any notebook but the red one and the green one.",
+    ] {
+        let d = said(text, &lab, &norms(&[]));
+        assert_eq!((d.0, d.1.as_deref()), (Unresolved, None), "{text}: {d:?}");
+    }
     // "the 2 box": a number that is an attribute's value is still read as one.
     let sized = scene(
         vec![

@@ -85,7 +85,14 @@ pub(super) fn without_commas(words: &[String]) -> Cow<'_, [String]> {
 /// The items of a list: "the mug, the plate and the cup" is three; "the mug or the cup" is one
 /// item whose alternatives `reference` reads ("or" takes the commas as its own).
 pub(super) fn listed(span: &[String]) -> Vec<Cow<'_, [String]>> {
-    if span.iter().any(|w| w == "and") {
+    // "any mug except the red one and the blue one": an "and" after an exclusion is the
+    // exclusion's, never a second item (which would act on what the words leave out).
+    let first_and = span.iter().position(|w| w == "and");
+    let excluding = |w: &String| ["except", "but", "other"].contains(&w.as_str());
+    if first_and.is_some_and(|at| span[..at].iter().any(excluding)) {
+        return vec![without_commas(span)];
+    }
+    if first_and.is_some() {
         let items: Vec<&[String]> = span.split(|w| w == "and" || w == COMMA).collect();
         // "the mug and and the cup" is not a list of two: an empty item names nothing.
         let last = items.len() - 1;
