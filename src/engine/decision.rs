@@ -245,6 +245,9 @@ pub enum Unclear {
     Unasked,
     /// The deadline passed (or the client left) before the words were read.
     Deadline,
+    /// The words part into a verb's arguments in more than one way that names objects here:
+    /// "Put the cup on the table in the box." with a cup on a table and a table in a box.
+    Ambiguous,
 }
 
 impl Unclear {
@@ -257,6 +260,7 @@ impl Unclear {
             Unclear::Unplaced => "unplaced",
             Unclear::Unasked => "unasked",
             Unclear::Deadline => "deadline",
+            Unclear::Ambiguous => "ambiguous",
         }
     }
 }

@@ -555,6 +555,7 @@ fn not_understood(why: Unclear, words: &str) -> String {
         Unclear::Unplaced => format!("I did not understand \"{words}\"."),
         Unclear::Unasked => format!("I did not ask anything that \"{words}\" answers."),
         Unclear::Deadline => "I ran out of time before I understood that.".to_owned(),
+        Unclear::Ambiguous => format!("I can read \"{words}\" in more than one way here; please say it another way."),
     }
 }
 

@@ -464,8 +464,9 @@ pub struct ParseDto {
     /// Trailing words that select no object and were left out ("for reheating").
     pub ignored: Vec<String>,
     /// Why the words are not a directive (`question`, `negated`, `several`, `unplaced`,
-    /// `empty`, `unasked`: an answer to no question, `deadline`: not read in time), when the
-    /// decision is `not_understood`.
+    /// `empty`, `unasked`: an answer to no question, `deadline`: not read in time,
+    /// `ambiguous`: the words part into the verb's arguments in more than one way that names
+    /// objects here), when the decision is `not_understood`.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub unclear: Option<String>,
     /// A task's steps, in order: present when the words hold several steps or a purpose.

@@ -183,3 +183,41 @@ async fn the_agents_rotation_turns_left_and_right() {
     )
     .await;
 }
+
+/// A two-argument verb whose words hold two joiners is read both ways: the way whose references
+/// all name something here is the reading, and when both do, the robot says it cannot tell
+/// rather than choose.
+#[tokio::test]
+async fn a_joiner_that_could_part_the_words_twice_is_read_the_way_the_scene_fits() {
+    let app = spawn_app().await;
+    // "the box on the table" names nothing: the cup in the box goes on the table.
+    let answer = app.clarify(&said("Put the cup in the box on the table.")).await;
+    assert_eq!(answer["decision"], "comply", "{answer}");
+    assert_eq!(answer["goal"], "did(self,put(cup3,table1))");
+    let words: Vec<&Value> = (answer["parse"]["references"].as_array().unwrap().iter())
+        .map(|r| &r["words"])
+        .collect();
+    assert_eq!(words, [&json!("the cup in the box"), &json!("the table")]);
+    // "the table in the box" names nothing: the fork goes in one of the boxes.
+    let answer = app.clarify(&said("Put the fork on the table in the box.")).await;
+    assert_eq!(answer["decision"], "ask", "{answer}");
+    let actions: Vec<&str> = (answer["interpretations"].as_array().unwrap().iter())
+        .map(|i| i["action"].as_str().unwrap())
+        .collect();
+    assert_eq!(actions, ["did(self,put(fork1,box1))", "did(self,put(fork1,box2))"]);
+    // Neither way names everything: the first way says what it could not find.
+    let answer = app.clarify(&said("Put the cup on the plate in the bowl.")).await;
+    assert_eq!(answer["decision"], "unresolved", "{answer}");
+    assert_eq!(answer["goal"], Value::Null);
+    // With a box on the table, both ways name objects: not guessed.
+    let mut both = said("Put the cup in the box on the table.");
+    both["scene"]["facts"] = json!(["in(cup3,box2)", "on(box1,table1)"]);
+    let answer = app.clarify(&both).await;
+    assert_eq!(answer["decision"], "not_understood", "{answer}");
+    assert_eq!(answer["parse"]["unclear"], "ambiguous");
+    assert_eq!(
+        answer["utterance"],
+        "I can read \"Put the cup in the box on the table\" in more than one way here; please say it another way."
+    );
+    assert_eq!(answer["goal"], Value::Null);
+}

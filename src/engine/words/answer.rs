@@ -118,7 +118,7 @@ pub fn read_answer(text: &str, lexicon: &Lexicon) -> Answer {
         });
     }
     // A whole directive of a verb the robot knows ("Get the vase instead."): decided afresh.
-    if let Understanding::Directive { parse, .. } = read(text, lexicon)
+    if let Understanding::Directive { parse, .. } = read(text, lexicon, &mut Default::default())
         && lexicon.verbs.iter().any(|p| p.verb == parse.verb)
     {
         return Answer::Directive(text.to_owned());

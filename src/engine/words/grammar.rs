@@ -23,6 +23,7 @@ use std::borrow::Cow;
 use super::lexicon::{Lexicon, inflects};
 use super::purpose::{Purposed, need_at, purpose_at, read_purpose};
 pub(super) use super::reference::{reference, reference_or_adjectives};
+use super::splits::Splits;
 use super::steps::{
     COMMA, Clause, assemble, comma_segments, listed, split_clauses, topic, with_commas, without_commas,
 };
@@ -137,8 +138,8 @@ struct Narrowing {
 
 /// The sentence's shape, stage by stage; `words` shrinks from both ends as each stage takes
 /// what is its own.
-pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
-    let understood = read_words(text, lexicon);
+pub fn read(text: &str, lexicon: &Lexicon, splits: &mut Splits) -> Understanding {
+    let understood = read_words(text, lexicon, splits);
     // An index cut short, or a reference searched past the deadline, is no reading at all.
     if lexicon.expired() {
         return Understanding::Expired;
@@ -146,7 +147,7 @@ pub fn read(text: &str, lexicon: &Lexicon) -> Understanding {
     understood
 }
 
-fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
+fn read_words(text: &str, lexicon: &Lexicon, splits: &mut Splits) -> Understanding {
     let mut sentences = sentences(tokens(text));
     let mut addressee = None;
     // "Pepper! Get the mug.": a first sentence that can only be a name is the addressee.
@@ -165,13 +166,23 @@ fn read_words(text: &str, lexicon: &Lexicon) -> Understanding {
     let mut clauses = Vec::new();
     for sentence in sentences {
         for (n, words) in split_clauses(with_commas(sentence), lexicon).into_iter().enumerate() {
-            match clause(comma_segments(words), n == 0, lexicon, &mut addressee) {
+            let at = Parting {
+                clause: clauses.len(),
+                splits: &mut *splits,
+            };
+            match clause(comma_segments(words), n == 0, lexicon, &mut addressee, at) {
                 Ok(read) => clauses.push(read),
                 Err((why, words)) => return Understanding::NotUnderstood { why, words },
             }
         }
     }
     assemble(clauses, addressee, topic)
+}
+
+/// Which clause of the words is read, and the joiner each clause is parted at.
+struct Parting<'s> {
+    clause: usize,
+    splits: &'s mut Splits,
 }
 
 /// One clause: its verb and references, as the grammar's `clause` rule reads them, with
@@ -181,6 +192,7 @@ fn clause(
     first: bool,
     lexicon: &Lexicon,
     addressee: &mut Option<String>,
+    parting: Parting<'_>,
 ) -> Result<Clause, (Unclear, String)> {
     let unclear = |why, words: String| Err((why, words));
     let mut ignored = Vec::new();
@@ -399,8 +411,12 @@ fn clause(
     } else if rest.is_empty() {
         return unclear(Unclear::Unplaced, said(&words));
     } else if arity == 2 {
-        match (1..rest.len()).find(|&i| joiners.contains(&rest[i])) {
-            Some(i) if i + 1 < rest.len() => {
+        // Each joiner with words on both sides could part them; the reading says which does.
+        let at: Vec<usize> = (1..rest.len().saturating_sub(1))
+            .filter(|&i| joiners.contains(&rest[i]))
+            .collect();
+        match parting.splits.pick(parting.clause, &at) {
+            Some(i) => {
                 said_joiner = Some(rest[i].clone());
                 vec![Cow::Borrowed(&rest[..i]), without_commas(&rest[i + 1..])]
             }

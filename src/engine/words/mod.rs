@@ -14,6 +14,7 @@ mod number;
 mod purpose;
 mod reference;
 mod relations;
+mod splits;
 mod steps;
 mod tokens;
 mod vocabulary;
@@ -240,6 +241,11 @@ pub enum Understanding {
 /// Reads `text` against the objects of `scene` and the verbs of `library`; a pronoun is the
 /// first object of `focus` (most salient first), and with no focus it matches nothing.
 /// `expired` is asked while the scene's words are gathered and while long references are read.
+///
+/// Where a two-argument verb's words could be parted at more than one joiner ("Put the cup on
+/// the table in the box."), each way is read, and the one whose references all name something
+/// in the scene is the reading; with none, the first way says what it could not find; with
+/// several, the words are not understood, as choosing would be a guess.
 pub fn understand(
     text: &str,
     scene: &Scene,
@@ -248,7 +254,33 @@ pub fn understand(
     expired: &dyn Fn() -> bool,
 ) -> Understanding {
     let lexicon = lexicon::Lexicon::new(scene, library, expired);
-    let mut understood = grammar::read(text, &lexicon);
+    let mut first_way = splits::Splits::default();
+    let first = focused(grammar::read(text, &lexicon, &mut first_way), focus);
+    if !first_way.ambiguous() {
+        return first;
+    }
+    let mut naming = Vec::new();
+    for mut way in first_way.ways() {
+        let reading = focused(grammar::read(text, &lexicon, &mut way), focus);
+        if expired() {
+            return Understanding::Expired;
+        }
+        if splits::names_something(&reading, scene, expired) {
+            naming.push(reading);
+        }
+    }
+    match naming.len() {
+        0 => first,
+        1 => naming.remove(0),
+        _ => Understanding::NotUnderstood {
+            why: Unclear::Ambiguous,
+            words: text.trim().trim_end_matches(['.', '!', '?']).trim().to_owned(),
+        },
+    }
+}
+
+/// The reading with each pronoun that no earlier step binds made the first object of `focus`.
+fn focused(mut understood: Understanding, focus: &[String]) -> Understanding {
     let (Understanding::Directive { directive, parse }, Some(first)) = (&mut understood, focus.first()) else {
         return understood;
     };
