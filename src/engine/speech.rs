@@ -9,6 +9,7 @@ use std::borrow::Cow;
 use super::decision::{Interpretation, Plan, Style, Unclear, Unfound};
 use super::describe::{Describer, is_task, reading_with};
 use super::norms::Force;
+use super::resolve::plural;
 use super::scene::spoken;
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
@@ -243,14 +244,6 @@ pub fn gerund(verb: &str) -> String {
 }
 
 /// "notebook" → "notebooks", "cash box" → "cash boxes".
-fn plural(noun: &str) -> String {
-    if ["s", "x", "z", "ch", "sh"].iter().any(|e| noun.ends_with(e)) {
-        format!("{noun}es")
-    } else {
-        format!("{noun}s")
-    }
-}
-
 fn capitalise(text: &str) -> String {
     let mut chars = text.chars();
     match chars.next() {
@@ -662,6 +655,9 @@ mod tests {
         }
         assert_eq!(plural("notebook"), "notebooks");
         assert_eq!(plural("cash box"), "cash boxes");
+        // One plural for what is read and what is said: "any of the knives", not "knifes".
+        assert_eq!(plural("kitchen knife"), "kitchen knives");
+        assert_eq!(plural("battery"), "batteries");
         assert_eq!(listed(&["a".into(), "b".into(), "c".into()], "or"), "a, b, or c");
     }
 }

@@ -332,6 +332,18 @@ async fn the_natural_style_words_every_decision_kind() {
     );
     // The decision is the same in both styles; only the words differ.
     assert_eq!(answer["decision"], "explain");
+    // Three or more are "any of" them, in the plural the words path reads ("knives").
+    let knives: Vec<Value> = (0..3)
+        .map(|i| json!({"id": format!("knife{i}"), "type": "kitchen_knife", "position": [0.5, 0.1 * i as f64, 0.8]}))
+        .collect();
+    let scene = json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": knives});
+    let answer = app
+        .clarify(&natural(request("destroy", &["kitchen_knife"], scene)))
+        .await;
+    assert_eq!(
+        answer["utterance"],
+        "I will not destroy any of the kitchen knives. Destroying things is forbidden."
+    );
 }
 
 #[tokio::test]
