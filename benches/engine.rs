@@ -167,7 +167,7 @@ fn bench_paper(c: &mut Criterion) {
                 black_box("Pepper, can you go steal the cash box for me?"),
                 &office.scene,
                 &library,
-                &[],
+                scruple::engine::words::heard(&[]),
                 &|| false,
             )
         })
@@ -183,13 +183,24 @@ fn bench_tasks(c: &mut Criterion) {
     let lab = input(json!({"directive": {"action": "get", "arguments": []}, "scene": demo["scenes"]["lab"]}));
     let five = "Get the mug and put it on the red notebook, then get the plastic vase and put it on the green \
                 notebook and then point to the mug.";
-    let read = scruple::engine::words::understand(five, &lab.scene, &library, &[], &|| false);
+    let read =
+        scruple::engine::words::understand(five, &lab.scene, &library, scruple::engine::words::heard(&[]), &|| {
+            false
+        });
     assert!(
         matches!(&read, scruple::engine::words::Understanding::Directive { directive: scruple::engine::request::Directive::Task(t), .. } if t.steps.len() == 5),
         "{read:?}"
     );
     c.bench_function("words/five_steps_over_the_lab", |b| {
-        b.iter(|| scruple::engine::words::understand(black_box(five), &lab.scene, &library, &[], &|| false))
+        b.iter(|| {
+            scruple::engine::words::understand(
+                black_box(five),
+                &lab.scene,
+                &library,
+                scruple::engine::words::heard(&[]),
+                &|| false,
+            )
+        })
     });
     let kitchen = json!({"agent": {"position": [0, 0, 0.75], "reach": 0.9}, "objects": [
         {"id": "m1", "type": "mug", "attributes": {"color": "red"}, "position": [0.5, 0.1, 0.8]},
@@ -206,7 +217,15 @@ fn bench_tasks(c: &mut Criterion) {
         let request = input(json!({"directive": {"text": text}, "scene": kitchen}));
         // The reading of the words alone, for where the time of each goes.
         c.bench_function(&name.replace("tasks/", "tasks/read/"), |b| {
-            b.iter(|| scruple::engine::words::understand(black_box(text), &request.scene, &library, &[], &|| false))
+            b.iter(|| {
+                scruple::engine::words::understand(
+                    black_box(text),
+                    &request.scene,
+                    &library,
+                    scruple::engine::words::heard(&[]),
+                    &|| false,
+                )
+            })
         });
         let decided = clarify(&request.request, &request.scene, &norms, &library, &|| false).unwrap();
         assert!(decided.goal.is_some(), "{text}: {}", decided.utterance);

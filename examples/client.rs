@@ -52,6 +52,7 @@ fn lab_scene() -> pb::Scene {
             vase("object4", 0.35, &[], &[("material", "plastic")]),
         ],
         facts: vec![],
+        people: vec![],
     }
 }
 

@@ -290,7 +290,7 @@ fn object(value: &Value, at: &str) -> Result<pb::Object> {
 }
 
 fn scene(value: &Value, at: &str) -> Result<pb::Scene> {
-    let f = Fields::of(value, at, &["agent", "objects", "facts"])?;
+    let f = Fields::of(value, at, &["agent", "objects", "facts", "people"])?;
     let agent = f.nested("agent", |v, at| {
         let known = [
             "id",
@@ -320,6 +320,21 @@ fn scene(value: &Value, at: &str) -> Result<pb::Scene> {
             .map(|(at, v)| object(v, &at))
             .collect::<Result<_>>()?,
         facts: f.strings("facts")?,
+        people: f
+            .list("people")?
+            .into_iter()
+            .map(|(at, v)| person(v, &at))
+            .collect::<Result<_>>()?,
+    })
+}
+
+fn person(value: &Value, at: &str) -> Result<pb::Person> {
+    let f = Fields::of(value, at, &["id", "names", "roles", "position"])?;
+    Ok(pb::Person {
+        id: f.string("id")?.unwrap_or_default(),
+        names: f.strings("names")?,
+        roles: f.strings("roles")?,
+        position: f.numbers("position")?,
     })
 }
 

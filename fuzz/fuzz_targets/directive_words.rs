@@ -14,7 +14,7 @@ use scruple::engine::Library;
 use scruple::engine::input::RequestLimits;
 use scruple::engine::request::Directive;
 use scruple::engine::scene::{AgentInput, ObjectInput, Scene, SceneInput};
-use scruple::engine::words::{Understanding, understand};
+use scruple::engine::words::{Understanding, heard, understand};
 
 fn object(id: &str, kind: &str, properties: &[&str], attributes: &[(&str, &str)]) -> ObjectInput {
     ObjectInput {
@@ -53,6 +53,7 @@ static SCENE: LazyLock<Scene> = LazyLock::new(|| {
             object("box1", "cash_box", &[], &[("color", "red")]),
         ],
         facts: vec![],
+        people: vec![],
     };
     Scene::from_input(input, &RequestLimits::default()).expect("the fuzzer's scene is valid")
 });
@@ -76,8 +77,8 @@ const KNOWN: &[&str] = &[
 ];
 
 fuzz_target!(|text: &str| {
-    let first = understand(text, &SCENE, &LIBRARY, &[], &|| false);
-    assert_eq!(first, understand(text, &SCENE, &LIBRARY, &[], &|| false), "{text:?} read two ways");
+    let first = understand(text, &SCENE, &LIBRARY, heard(&[]), &|| false);
+    assert_eq!(first, understand(text, &SCENE, &LIBRARY, heard(&[]), &|| false), "{text:?} read two ways");
     let Understanding::Directive { directive, parse } = first else {
         return;
     };

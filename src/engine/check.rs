@@ -12,7 +12,7 @@ use super::describe::Describer;
 use super::input::{Invalid, RequestLimits};
 use super::norms::{CompiledNorms, Force, Scope};
 use super::request::{context_of, speaker_roles_of};
-use super::scene::{Scene, SceneInput};
+use super::scene::{DEFAULT_SPEAKER, Scene, SceneInput};
 use super::simulate::{Env, Outcome, Reason, simulate_from};
 use super::speech;
 use super::term::Term;
@@ -122,7 +122,8 @@ pub fn check(
     style: Style,
     expired: &(dyn Fn() -> bool + Sync),
 ) -> Check {
-    let base = Base::new(scene.all_facts());
+    // A check names no speaker: the default one, with the request's roles.
+    let base = Base::new(scene.facts_with_speaker(DEFAULT_SPEAKER, scope.roles));
     let env = Env::new(scene, norms, library, scope, &base, &[], expired);
     let mut describer = Describer::new(scene, library);
     let mut world = World::new(&base);

@@ -125,7 +125,8 @@ pub fn read_words(
     let Directive::Words { text } = &request.directive else {
         return None;
     };
-    Some(words::understand(text, scene, library, &request.focus, expired))
+    let heard = words::Heard::of(request);
+    Some(words::understand(text, scene, library, heard, expired))
 }
 
 /// [`clarify`], with the words already read by [`read_words`] (for the same request, scene and
@@ -417,7 +418,7 @@ fn decide_directive(
     }
     permute(&mut readings, order);
 
-    let base = Base::new(scene.all_facts());
+    let base = Base::new(scene.facts_with_speaker(&request.speaker, &request.speaker_roles));
     let scope = Scope {
         context: &request.context,
         roles: &request.speaker_roles,

@@ -51,6 +51,9 @@ pub fn describe_object(scene: &Scene, object: &Object) -> String {
 
 /// [`describe_object`], and whether a landmark or a position told the object apart.
 fn describe_told(scene: &Scene, object: &Object) -> (String, bool) {
+    if let Some(words) = scene.person_words(&object.id) {
+        return (words, false);
+    }
     let others = || scene.same_kind(&object.kind, &object.id);
     let (text, distractors) = describe_among(object, others().count(), || others().collect());
     if distractors && scene.objects.len() <= relational::UP_TO {
@@ -325,6 +328,9 @@ impl<'a> Describer<'a> {
     /// gives it: no id, landmark or position.
     pub fn plain(&self, id: &str) -> Option<String> {
         let object = self.scene.object(id)?;
+        if let Some(words) = self.scene.person_words(id) {
+            return Some(words);
+        }
         let others = || self.scene.same_kind(&object.kind, &object.id);
         Some(describe_among(object, others().count(), || others().collect()).0)
     }

@@ -15,7 +15,7 @@ use super::decision::Style;
 use super::input::{Invalid, RequestLimits, Spelled, constant, pointer_segment, ranged};
 use super::norms::{context_name, validate_roles};
 use super::resolve::{Candidate, Reference, ReferenceInput};
-use super::scene::{Scene, SceneInput};
+use super::scene::{DEFAULT_SPEAKER, Scene, SceneInput};
 use super::task::{Argument, MAX_STEPS, Step, Task};
 use super::term::{Sym, Term};
 
@@ -277,7 +277,7 @@ impl Request {
     /// Checks a whole request within the operator's limits, in the order of its members; the
     /// first fault is reported with its field, and nothing reaches a simulation.
     pub fn from_input(input: RequestInput, limits: &RequestLimits) -> Result<Checked, Invalid> {
-        let speaker = input.speaker.unwrap_or_else(|| "human".to_owned());
+        let speaker = input.speaker.unwrap_or_else(|| DEFAULT_SPEAKER.to_owned());
         constant("/speaker", &speaker, "the speaker")?;
         let context = context_of(input.context)?;
         let scene = Scene::from_input(input.scene, limits).map_err(|e| e.within("/scene"))?;

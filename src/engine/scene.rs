@@ -19,9 +19,11 @@ use super::input::{Invalid, RequestLimits, constant, finite, pointer_segment, po
 use super::term::{Sym, Term};
 
 mod facts;
+mod people;
 pub mod relate;
 mod spoken;
 
+pub use people::{DEFAULT_SPEAKER, PERSON, Person, PersonInput, person_predicate, speaker_facts};
 use spoken::names_of;
 pub use spoken::{MAX_NAMES, invisible, spoken, spoken_into, spoken_is, spoken_onto};
 
@@ -120,6 +122,9 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Ground facts given beside the objects.
     pub facts: Vec<Term>,
+    /// The people of `scene.people`, each also an object of type `person` in `objects`,
+    /// after the scene's own objects.
+    pub people: Vec<Person>,
     by_id: Ids,
     /// Reachability per object, computed at most once per request and only for objects asked about.
     reach_cache: Vec<OnceLock<bool>>,
@@ -167,6 +172,7 @@ pub struct SceneInput {
     pub agent: AgentInput,
     pub objects: Vec<ObjectInput>,
     pub facts: Vec<String>,
+    pub people: Vec<PersonInput>,
 }
 
 impl Shape {
@@ -293,6 +299,17 @@ impl Scene {
                 ),
             ));
         }
+        // People are referents too: they count against the same limit.
+        if input.objects.len() + input.people.len() > limits.max_objects {
+            return Err(Invalid::new(
+                "/people",
+                format!(
+                    "{} objects and people is over the limit of {} per scene (--max-objects)",
+                    input.objects.len() + input.people.len(),
+                    limits.max_objects
+                ),
+            ));
+        }
         let agent = Agent::from_input(input.agent).map_err(|e| e.within("/agent"))?;
         let mut by_id = Ids(HashTable::with_capacity(input.objects.len()));
         let mut objects = Vec::with_capacity(input.objects.len());
@@ -310,6 +327,22 @@ impl Scene {
             objects.push(Object::from_input(id, o).map_err(|e| e.within(&at()))?);
             by_id.insert(&objects, i);
         }
+        let mut people = Vec::with_capacity(input.people.len());
+        for (k, p) in input.people.into_iter().enumerate() {
+            let at = || format!("/people/{k}");
+            constant("/id", &p.id, "a person id").map_err(|e| e.within(&at()))?;
+            let id = Sym::new(&p.id);
+            if by_id.has(&objects, &id) {
+                return Err(Invalid::new(
+                    format!("{}/id", at()),
+                    format!("duplicate id `{}`: an object or person has it already", p.id),
+                ));
+            }
+            let (object, person) = p.checked(id, objects.len()).map_err(|e| e.within(&at()))?;
+            objects.push(object);
+            by_id.insert(&objects, person.index);
+            people.push(person);
+        }
         let mut facts = Vec::with_capacity(input.facts.len());
         for (k, text) in input.facts.iter().enumerate() {
             let field = || format!("/facts/{k}");
@@ -320,7 +353,10 @@ impl Scene {
             }
             facts.push(fact);
         }
-        Ok(Scene::indexed(agent, objects, facts, by_id))
+        people::settle(&mut people, &objects);
+        let mut scene = Scene::indexed(agent, objects, facts, by_id);
+        scene.people = people;
+        Ok(scene)
     }
 
     /// Builds the scene from values already checked.
@@ -331,6 +367,7 @@ impl Scene {
             agent,
             objects,
             facts,
+            people: Vec::new(),
             by_id,
             reach_cache,
             clearance_cache,
@@ -556,142 +593,4 @@ fn euclid(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn object(position: [f64; 3], shape: Option<Shape>, rotation: Option<[f64; 4]>) -> Object {
-        Object {
-            id: "o".into(),
-            kind: "thing".into(),
-            properties: vec![],
-            attributes: BTreeMap::new(),
-            position,
-            shape,
-            rotation,
-            mass: None,
-            names: Vec::new(),
-        }
-    }
-
-    #[test]
-    fn distances_follow_each_shape_and_rotation() {
-        let origin = [0.0, 0.0, 0.0];
-        let cases: Vec<(Object, f64)> = vec![
-            (object([1.0, 0.0, 0.0], None, None), 1.0),
-            (object([1.0, 0.0, 0.0], Some(Shape::Ball { radius: 0.25 }), None), 0.75),
-            (
-                object(
-                    [1.0, 0.0, 0.0],
-                    Some(Shape::Cuboid {
-                        half_extents: [0.1, 0.5, 0.5],
-                    }),
-                    None,
-                ),
-                0.9,
-            ),
-            // Cylinder axis along z: its radius faces the agent along x.
-            (
-                object(
-                    [1.0, 0.0, 0.0],
-                    Some(Shape::Cylinder {
-                        radius: 0.2,
-                        half_height: 0.5,
-                    }),
-                    None,
-                ),
-                0.8,
-            ),
-            // Straight above: the cap (half height) faces the agent.
-            (
-                object(
-                    [0.0, 0.0, 1.0],
-                    Some(Shape::Cylinder {
-                        radius: 0.2,
-                        half_height: 0.5,
-                    }),
-                    None,
-                ),
-                0.5,
-            ),
-            // The same cylinder turned a quarter about y lies along x: the radius faces up.
-            (
-                object(
-                    [0.0, 0.0, 1.0],
-                    Some(Shape::Cylinder {
-                        radius: 0.2,
-                        half_height: 0.5,
-                    }),
-                    Some([
-                        0.0,
-                        std::f64::consts::FRAC_1_SQRT_2,
-                        0.0,
-                        std::f64::consts::FRAC_1_SQRT_2,
-                    ]),
-                ),
-                0.8,
-            ),
-            // Inside the shape: zero.
-            (object([0.0, 0.0, 0.0], Some(Shape::Ball { radius: 1.0 }), None), 0.0),
-        ];
-        for (object, expected) in cases {
-            let d = distance_to_shape(&object, &origin);
-            assert!((d - expected).abs() < 1e-5, "{object:?}: {d} != {expected}");
-        }
-    }
-
-    /// Found by `fuzz/fuzz_targets/clarify_request.rs`: with one or two shaped objects not first
-    /// in the scene, building the BVH panicked inside parry.
-    #[test]
-    fn clearance_is_found_when_point_objects_come_before_the_shaped_ones() {
-        let agent = Agent {
-            id: "self".into(),
-            position: [0.0, 0.0, 0.0],
-            reach: 2.0,
-            gripper_aperture: None,
-            payload: None,
-            gripper_size: Some(0.05),
-            rotation: None,
-        };
-        let named = |id: &str, position: [f64; 3], shape: Option<Shape>| Object {
-            id: id.into(),
-            ..object(position, shape, None)
-        };
-        let ball = || Some(Shape::Ball { radius: 0.1 });
-        let cases: Vec<(Vec<Object>, &str, Option<&str>)> = vec![
-            (
-                vec![named("p", [0.0, 1.0, 0.0], None), named("b", [1.0, 0.0, 0.0], ball())],
-                "b",
-                None,
-            ),
-            (
-                vec![named("p", [0.0, 1.0, 0.0], None), named("b", [1.0, 0.0, 0.0], ball())],
-                "p",
-                None,
-            ),
-            (
-                vec![
-                    named("p", [0.0, 1.0, 0.0], None),
-                    named("wall", [0.5, 0.0, 0.0], ball()),
-                    named("b", [1.0, 0.0, 0.0], ball()),
-                ],
-                "b",
-                Some("wall"),
-            ),
-            (
-                vec![
-                    named("p", [0.0, 1.0, 0.0], None),
-                    named("q", [0.0, -1.0, 0.0], None),
-                    named("wall", [0.5, 0.0, 0.0], ball()),
-                    named("b", [1.0, 0.0, 0.0], None),
-                ],
-                "b",
-                Some("wall"),
-            ),
-        ];
-        for (objects, target, expected) in cases {
-            let scene = Scene::new(agent.clone(), objects, vec![]);
-            let blocker = scene.blocked_by(target).map(|o| o.id.as_str());
-            assert_eq!(blocker, expected, "reaching for {target}");
-        }
-    }
-}
+mod tests;

@@ -6,7 +6,7 @@
 
 use super::action::{Library, Method, Step};
 use super::norms::{CompiledNorms, InForce, NormKind, Scope, SoftMatch};
-use super::scene::{Scene, grasp_width, room_on};
+use super::scene::{PERSON, Scene, grasp_width, room_on};
 use super::term::{Bound, Subst, Sym, Term};
 use super::world::{Base, KeyBit, World};
 
@@ -339,8 +339,28 @@ impl Run<'_, '_> {
             Some(Term::Const(id)) => scene.object(id),
             _ => None,
         };
+        // A person is a referent, never an object to handle: a parameter the verb reaches for,
+        // grasps or places may be bound to a person only where the method declares it one.
+        let handled =
+            (def.reach.iter().chain(&def.grasp)).chain(def.place.iter().flat_map(|(item, support)| [item, support]));
+        let mut people: smallvec::SmallVec<[&Sym; 2]> = smallvec::SmallVec::new();
+        for param in handled {
+            if let Some(person) = object_of(param).filter(|o| o.kind == PERSON)
+                && !people.contains(&&person.id)
+                && !declares_person(def, param)
+            {
+                people.push(&person.id);
+                self.push(Reason::infeasible(Cause::Person {
+                    person: person.id.clone(),
+                }));
+            }
+        }
+        let object_of = |param: &Sym| object_of(param).filter(|o| !people.contains(&&o.id));
         for param in &def.reach {
             let Some(target) = bindings.get(param) else { continue };
+            if target.name().is_some_and(|id| people.contains(&id)) {
+                continue;
+            }
             let Some(object) = object_of(param) else {
                 self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
                 continue;
@@ -391,6 +411,12 @@ impl Run<'_, '_> {
             }
         }
     }
+}
+
+/// Whether `method` takes a person as `param`: `person(P)` is among its preconditions.
+fn declares_person(method: &Method, param: &Sym) -> bool {
+    (method.preconditions.iter())
+        .any(|f| f.name().is_some_and(|n| &**n == PERSON) && matches!(f.args(), [Term::Var(v)] if v == param))
 }
 
 /// Simulates doing `action` (ground) in a private copy of `world`, in DIARC's order: (1) the

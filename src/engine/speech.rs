@@ -10,7 +10,7 @@ use super::decision::{Interpretation, Plan, Style, Unclear, Unfound};
 use super::describe::{Describer, is_task, reading_with};
 use super::norms::Force;
 use super::resolve::plural;
-use super::scene::spoken;
+use super::scene::{person_predicate, spoken};
 use super::simulate::{Cause, Reason};
 use super::term::{Sym, Term};
 
@@ -144,6 +144,7 @@ fn geometry_words(cause: &Cause, describer: &mut Describer<'_>, natural: bool) -
             let item = name(item);
             format!("there is no room for {item} on {}", name(support))
         }
+        Cause::Person { person } => format!("{} is a person, not an object to handle", name(person)),
         Cause::SameObject { verb, object, joiner } => format!(
             "{} cannot be {} {} itself",
             name(object),
@@ -208,6 +209,9 @@ fn which(nouns: &[String]) -> Vec<String> {
 /// A precondition that does not hold, in words: `open(box1)` → "the box is not open";
 /// `color(box1,red)` → "the color of the box is not red"; anything else canonical.
 fn not_the_case(fact: &Term, describer: &mut Describer<'_>) -> String {
+    if let Some(predicate) = person_predicate(fact) {
+        return format!("{} is not {predicate}", describer.argument(&fact.args()[0]));
+    }
     let name = fact.name().map(|n| spoken(n)).unwrap_or_default();
     match fact.args() {
         [subject] => format!("{} is not {name}", describer.argument(subject)),

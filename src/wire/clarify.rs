@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
-pub use super::scene::{AgentBody, ObjectBody, SceneBody, ShapeBody};
+pub use super::scene::{AgentBody, ObjectBody, PersonBody, SceneBody, ShapeBody};
 use crate::engine::decision::{BoundTo, Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
     AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,

@@ -20,8 +20,8 @@ use crate::error::Error;
 pub use check::{CheckBody, CheckDto, CheckOptionsBody, StepCheckDto};
 pub use clarify::{
     AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
-    ObjectBody, OptionsBody, ParseDto, PronounParseDto, PurposeParseDto, ReasonDto, ReferenceBody, ReferenceParseDto,
-    RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
+    ObjectBody, OptionsBody, ParseDto, PersonBody, PronounParseDto, PurposeParseDto, ReasonDto, ReferenceBody,
+    ReferenceParseDto, RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
 };
 pub use norms::{
     AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto, NormSetImportSchema, NormSetObject,

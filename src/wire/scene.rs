@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use super::clarify::{Scalar, texts};
-use crate::engine::scene::{AgentInput, ObjectInput, SceneInput, Shape};
+use crate::engine::scene::{AgentInput, ObjectInput, PersonInput, SceneInput, Shape};
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
 pub struct SceneBody {
@@ -18,6 +18,30 @@ pub struct SceneBody {
     pub objects: Vec<ObjectBody>,
     #[serde(default)]
     pub facts: Vec<String>,
+    /// The people present: referents in words and directives, recipients, and the subjects of
+    /// `person(p)` and `role(p,r)` facts; never objects to handle.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub people: Vec<PersonBody>,
+}
+
+/// A person in the scene. As a referent a person is of type `person`, called by their names and
+/// by each role ("Bob", "the child"); a verb may take a person only where its method has the
+/// precondition `person(P)`.
+#[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PersonBody {
+    /// Unique among the scene's objects and people.
+    pub id: String,
+    /// Proper names (`["Bob"]`), 1 to 3 words of letters each, at most 8; heard in any case,
+    /// the first spoken as written.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub names: Vec<String>,
+    /// Role names (`["child"]`): each yields `role(p,r)`, and is a noun for the person.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub roles: Vec<String>,
+    /// Where the person stands, metres, world frame (z up).
+    #[schema(min_items = 3, max_items = 3)]
+    pub position: [f64; 3],
 }
 
 #[derive(Clone, Debug, Deserialize, Serialize, ToSchema)]
@@ -103,6 +127,14 @@ impl From<SceneBody> for SceneInput {
             },
             objects: s.objects.into_iter().map(Into::into).collect(),
             facts: s.facts,
+            people: (s.people.into_iter())
+                .map(|p| PersonInput {
+                    id: p.id,
+                    names: p.names,
+                    roles: p.roles,
+                    position: p.position,
+                })
+                .collect(),
         }
     }
 }

@@ -174,6 +174,14 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             }),
             objects,
             facts: strings(&scene["facts"]),
+            people: (scene["people"].as_array().into_iter().flatten())
+                .map(|p| pb::Person {
+                    id: p["id"].as_str().unwrap_or_default().to_owned(),
+                    names: strings(&p["names"]),
+                    roles: strings(&p["roles"]),
+                    position: numbers(&p["position"]),
+                })
+                .collect(),
         }),
         context: opt(&body["context"]),
         options: body.get("options").map(|o| pb::Options {

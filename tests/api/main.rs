@@ -24,6 +24,7 @@ mod number;
 mod observability;
 mod openapi;
 mod paper_demo;
+mod people;
 mod playground;
 mod references;
 mod replicas;

@@ -13,8 +13,8 @@ use crate::engine::term::{Sym, Term};
 const NAMES_RESERVED: usize = 64;
 
 impl Scene {
-    /// Every fact the scene states: for each object its type, properties and attributes, then
-    /// `facts` as given. On one thread: the facts of one type share its name's count, which
+    /// Every fact the scene states: for each object its type, properties and attributes, each
+    /// person's roles, then `facts` as given. On one thread: the facts of one type share its name's count, which
     /// threads stating them side by side would take turns at (the bench's 10,000-object case
     /// took about a tenth longer with the facts stated on two threads).
     pub fn all_facts(&self) -> Vec<Term> {
@@ -26,7 +26,8 @@ impl Scene {
                 named + 1 + properties + 2 * attributes,
             )
         });
-        let mut out = Vec::with_capacity(stated + self.facts.len());
+        let roles: usize = self.people.iter().map(|p| p.roles.len()).sum();
+        let mut out = Vec::with_capacity(stated + roles + self.facts.len());
         // Types, properties and attributes recur across objects: each is interned once here.
         // Room for every name a small scene can have, so that its map never grows; a large
         // scene repeats its names.
@@ -44,7 +45,15 @@ impl Scene {
                 out.push(Term::Compound(name(key), Arc::from([id.clone(), value])));
             }
         }
+        self.role_facts(&mut out);
         out.extend(self.facts.iter().cloned());
+        out
+    }
+
+    /// [`Scene::all_facts`], and the speaker's: a person with the request's roles.
+    pub fn facts_with_speaker(&self, speaker: &str, roles: &[String]) -> Vec<Term> {
+        let mut out = self.all_facts();
+        out.extend(super::speaker_facts(speaker, roles));
         out
     }
 }

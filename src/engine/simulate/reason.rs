@@ -44,6 +44,8 @@ pub enum Cause {
     UnknownObject { object: Term },
     /// A verb's precondition does not hold when it would run.
     Precondition { fact: Term },
+    /// A handling step (reach, grasp, place) names a person where the verb takes an object.
+    Person { person: Sym },
     /// The plan expands deeper than [`MAX_PLAN_DEPTH`].
     PlanTooDeep { step: Term },
     /// The human said the task is for `purpose` ("to smash the vase"), which a forbidden norm
@@ -129,6 +131,7 @@ impl Reason {
             Cause::NoRoom { .. } => "no_room",
             Cause::UnknownObject { .. } => "unknown_object",
             Cause::Precondition { .. } => "precondition",
+            Cause::Person { .. } => "person",
             Cause::PlanTooDeep { .. } => "plan_too_deep",
             Cause::SameObject { .. } => "same_object",
             Cause::Unfinished => "unfinished",
@@ -150,6 +153,7 @@ impl Reason {
             Cause::NoRoom { item, support } => format!("no room for {item} on {support}"),
             Cause::UnknownObject { object } | Cause::PlanTooDeep { step: object } => object.to_string(),
             Cause::SameObject { object, .. } => object.to_string(),
+            Cause::Person { person } => person.to_string(),
             Cause::Unfinished => "deadline".to_owned(),
         }
     }
@@ -182,6 +186,7 @@ impl Reason {
             }
             Cause::UnknownObject { object } => ("unknownObject", object.clone()),
             Cause::Precondition { fact } => ("precondition", fact.clone()),
+            Cause::Person { person } => ("isPerson", Term::Const(person.clone())),
             Cause::PlanTooDeep { step } => ("planTooDeep", step.clone()),
             Cause::SameObject { object, .. } => ("sameObject", Term::Const(object.clone())),
             Cause::Unfinished => return Term::constant("unfinished"),

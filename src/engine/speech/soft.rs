@@ -5,7 +5,7 @@
 //! invisible characters.
 
 use super::{Describer, Force, Interpretation, Reason, doing, listed, reading, unique};
-use crate::engine::scene::{invisible, spoken_onto};
+use crate::engine::scene::{invisible, person_predicate, spoken_onto};
 use crate::engine::simulate::Cause;
 use crate::engine::term::Term;
 
@@ -69,6 +69,13 @@ pub(super) fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<S
     let mut words = String::with_capacity(48);
     // The robot speaks of itself in the first person: "I am holding the mug".
     let me = describer.is_agent(subject_id);
+    // "Bob is a child", not "Bob is role child".
+    if let Some(predicate) = person_predicate(fact).filter(|_| !me) {
+        describer.argument_into(&fact.args()[0], &mut words);
+        words.push_str(" is ");
+        words.push_str(&predicate);
+        return Some(words);
+    }
     match fact.args() {
         [_] if me => {
             words.push_str("I am ");

@@ -27,6 +27,7 @@ mod number;
 mod number_props;
 mod ordering;
 mod paper;
+mod people;
 mod plans;
 mod relation_props;
 mod relation_refs;

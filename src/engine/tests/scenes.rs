@@ -31,6 +31,7 @@ fn input(ids: &[String]) -> SceneInput {
             })
             .collect(),
         facts: vec![],
+        people: vec![],
     }
 }
 

@@ -8,7 +8,7 @@ use crate::engine::decision::{DecisionKind, Unclear};
 use crate::engine::request::Directive;
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
-use crate::engine::words::{Understanding, inflects, understand};
+use crate::engine::words::{Understanding, heard, inflects, understand};
 
 /// A verb and each reference's candidates in the scene.
 type Read = (String, Vec<Vec<String>>);
@@ -16,7 +16,7 @@ type Read = (String, Vec<Vec<String>>);
 /// The directive the words are read as, in the structured form's terms: the verb and each
 /// reference's candidates in the scene.
 pub(super) fn read(text: &str, scene: &Scene) -> Result<Read, (Unclear, String)> {
-    match understand(text, scene, &Library::default_library(), &[], &|| false) {
+    match understand(text, scene, &Library::default_library(), heard(&[]), &|| false) {
         Understanding::Directive {
             directive: Directive::Action { verb, arguments, .. },
             ..
@@ -163,7 +163,7 @@ fn a_verbs_first_word_is_understood_inflected_and_nothing_else_is() {
 fn a_pronoun_is_the_first_object_in_focus() {
     let lab = lab();
     let focus = ids(&["object4", "object3"]);
-    match understand("Get it.", &lab, &Library::default_library(), &focus, &|| false) {
+    match understand("Get it.", &lab, &Library::default_library(), heard(&focus), &|| false) {
         Understanding::Directive {
             directive: Directive::Action { arguments, .. },
             ..
@@ -475,7 +475,7 @@ fn a_verb_of_no_arguments_takes_no_reference() {
         ("Could you wave now, please?", true),
         ("Wave the mug.", false),
     ] {
-        let understood = understand(text, &lab(), &library, &[], &|| false);
+        let understood = understand(text, &lab(), &library, heard(&[]), &|| false);
         let is_wave = matches!(&understood, Understanding::Directive { directive: Directive::Action { verb, arguments, .. }, .. } if verb == "wave" && arguments.is_empty());
         assert_eq!(is_wave, taken, "{text}: {understood:?}");
     }

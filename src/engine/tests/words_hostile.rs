@@ -9,7 +9,7 @@ use crate::engine::decision::{DecisionKind, Unclear};
 use crate::engine::request::Directive;
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
-use crate::engine::words::{Understanding, understand};
+use crate::engine::words::{Understanding, heard, understand};
 
 /// One red cup and one red notebook (issue 50's scene): words after the reference that narrow
 /// or negate it were taken as an addressee or left out, and the red object obeyed.
@@ -103,7 +103,7 @@ fn a_vocative_is_a_name_never_a_verb_or_the_words_of_a_reference() {
         "Pepper, grab it.",
         "Grab it, please, Pepper.",
     ] {
-        let understood = understand(text, &lab, &Library::default_library(), &focus, &|| false);
+        let understood = understand(text, &lab, &Library::default_library(), heard(&focus), &|| false);
         let Understanding::Directive { directive, parse } = understood else {
             panic!("{text}: {understood:?}")
         };
@@ -352,6 +352,7 @@ fn names_with_combining_marks_are_letters_and_an_ordinal_after_which_is_explaine
             names,
         }],
         facts: vec![],
+        people: vec![],
     };
     let scene = Scene::from_input(
         input(vec!["İstanbul".into(), "cafe\u{301}".into()]),

@@ -28,6 +28,8 @@ pub struct Noun {
 /// The known words of one request: the scene's and the library's.
 pub struct Lexicon<'a> {
     scene: &'a Scene,
+    /// The speaker's id, when the speaker is a person of the scene: what "me" names.
+    pub speaker: Option<&'a str>,
     pub verbs: &'a [VerbPhrase],
     /// Every phrase of the scene, made the first time a lookup needs more than one pass.
     index: OnceCell<Index<'a>>,
@@ -140,10 +142,17 @@ impl<'a> Lexicon<'a> {
     pub fn new(scene: &'a Scene, library: &'a Library, expired: &'a dyn Fn() -> bool) -> Lexicon<'a> {
         Lexicon {
             scene,
+            speaker: None,
             verbs: library.phrases(),
             index: OnceCell::new(),
             expired,
         }
+    }
+
+    /// The lexicon, with "me" naming `speaker` when the speaker is a person of the scene.
+    pub fn spoken_by(mut self, speaker: &'a str) -> Lexicon<'a> {
+        self.speaker = self.scene.is_person(speaker).then_some(speaker);
+        self
     }
 
     pub fn scene(&self) -> &'a Scene {
@@ -334,6 +343,7 @@ mod tests {
                 })
                 .collect(),
             facts: Vec::new(),
+            people: Vec::new(),
         };
         Scene::from_input(input, &RequestLimits::default()).expect("a valid scene")
     }

@@ -238,8 +238,36 @@ pub enum Understanding {
     Expired,
 }
 
+/// Who spoke the words, and what they were speaking of.
+#[derive(Clone, Copy, Debug)]
+pub struct Heard<'a> {
+    /// Object ids, most salient first: what a pronoun names.
+    pub focus: &'a [String],
+    /// The speaker's id: what "me" names, when the speaker is a person of the scene.
+    pub speaker: &'a str,
+}
+
+impl<'a> Heard<'a> {
+    /// The request's speaker and focus.
+    pub fn of(request: &'a crate::engine::request::Request) -> Heard<'a> {
+        Heard {
+            focus: &request.focus,
+            speaker: &request.speaker,
+        }
+    }
+}
+
+/// Words heard from the default speaker, about `focus`: for tests and tools.
+pub fn heard(focus: &[String]) -> Heard<'_> {
+    Heard {
+        focus,
+        speaker: crate::engine::scene::DEFAULT_SPEAKER,
+    }
+}
+
 /// Reads `text` against the objects of `scene` and the verbs of `library`; a pronoun is the
-/// first object of `focus` (most salient first), and with no focus it matches nothing.
+/// first object of the focus (most salient first), and with no focus it matches nothing; "me"
+/// is the speaker when the speaker is one of the scene's people, and else matches nothing.
 /// `expired` is asked while the scene's words are gathered and while long references are read.
 ///
 /// Where a two-argument verb's words could be parted at more than one joiner ("Put the cup on
@@ -250,10 +278,11 @@ pub fn understand(
     text: &str,
     scene: &Scene,
     library: &Library,
-    focus: &[String],
+    heard: Heard<'_>,
     expired: &dyn Fn() -> bool,
 ) -> Understanding {
-    let lexicon = lexicon::Lexicon::new(scene, library, expired);
+    let Heard { focus, speaker } = heard;
+    let lexicon = lexicon::Lexicon::new(scene, library, expired).spoken_by(speaker);
     let mut first_way = splits::Splits::default();
     let first = focused(grammar::read(text, &lexicon, &mut first_way), focus);
     if !first_way.ambiguous() {

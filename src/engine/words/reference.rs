@@ -64,6 +64,17 @@ pub(super) fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Ph
 /// is said back ("pls" in "the mug pls").
 pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let words = span.join(" ");
+    // "me" is the speaker, when the speaker is a person of the scene; else it names nothing.
+    if span == ["me"] {
+        let reference = match lexicon.speaker {
+            Some(id) => Reference::Id(id.to_owned()),
+            None => Reference::Nothing {
+                words: words.clone(),
+                unplaced: None,
+            },
+        };
+        return Phrase { words, reference };
+    }
     // "the mug or the cup": any one of them will do.
     if span.len() > 2 && span[1..span.len() - 1].iter().any(|w| w == "or") {
         let options: Vec<Reference> = (span.split(|w| w == "or"))

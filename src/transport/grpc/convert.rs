@@ -13,8 +13,8 @@ use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
-    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, ReasonDto, ReferenceBody, ReferenceParseDto,
-    RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody,
+    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, PersonBody, ReasonDto, ReferenceBody,
+    ReferenceParseDto, RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody,
 };
 
 fn missing(field: &str) -> Error {
@@ -183,6 +183,16 @@ impl TryFrom<pb::Scene> for SceneBody {
             },
             objects,
             facts: scene.facts,
+            people: (scene.people.into_iter().enumerate())
+                .map(|(k, p)| {
+                    Ok(PersonBody {
+                        position: fixed(|| format!("/scene/people/{k}/position"), p.position)?,
+                        id: p.id,
+                        names: p.names,
+                        roles: p.roles,
+                    })
+                })
+                .collect::<Result<_, Error>>()?,
         })
     }
 }
