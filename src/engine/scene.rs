@@ -289,23 +289,17 @@ impl Scene {
     /// Checks every field of a scene within the operator's limits; the first fault is reported,
     /// named relative to the scene (`/objects/2/id`).
     pub fn from_input(input: SceneInput, limits: &RequestLimits) -> Result<Scene, Invalid> {
-        if input.objects.len() > limits.max_objects {
-            return Err(Invalid::new(
-                "/objects",
-                format!(
-                    "{} objects is over the limit of {} per scene (--max-objects)",
-                    input.objects.len(),
-                    limits.max_objects
-                ),
-            ));
-        }
         // People are referents too: they count against the same limit.
-        if input.objects.len() + input.people.len() > limits.max_objects {
+        let (objects, all) = (input.objects.len(), input.objects.len() + input.people.len());
+        if all > limits.max_objects {
+            let (field, what) = match objects > limits.max_objects {
+                true => ("/objects", format!("{objects} objects")),
+                false => ("/people", format!("{all} objects and people")),
+            };
             return Err(Invalid::new(
-                "/people",
+                field,
                 format!(
-                    "{} objects and people is over the limit of {} per scene (--max-objects)",
-                    input.objects.len() + input.people.len(),
+                    "{what} is over the limit of {} per scene (--max-objects)",
                     limits.max_objects
                 ),
             ));

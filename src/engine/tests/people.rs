@@ -382,3 +382,44 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn people_count_against_the_objects_limit_and_their_faults_are_named() {
+    let limits = RequestLimits {
+        max_objects: 4,
+        ..RequestLimits::default()
+    };
+    let input = |people: Vec<PersonInput>| SceneInput {
+        agent: AgentInput {
+            id: None,
+            position: [0.0, 0.0, 0.75],
+            reach: 1.2,
+            gripper_aperture: None,
+            payload: None,
+            gripper_size: None,
+            rotation: None,
+        },
+        objects: vec![thing("knife1", "knife", 0.0), thing("cup1", "cup", 0.2)],
+        facts: vec![],
+        people,
+    };
+    let two = || vec![person("bob", Some("Bob"), &[], 0.6), person("alice", None, &[], 0.7)];
+    assert!(Scene::from_input(input(two()), &limits).is_ok());
+    let mut three = two();
+    three.push(person("carol", None, &[], 0.8));
+    let err = Scene::from_input(input(three), &limits).unwrap_err();
+    assert_eq!(err.field, "/people");
+    assert!(err.message.contains("5 objects and people"), "{err}");
+    let mut far = two();
+    far[1].position = [f64::NAN, 0.0, 0.0];
+    assert_eq!(
+        Scene::from_input(input(far), &limits).unwrap_err().field,
+        "/people/1/position"
+    );
+    let mut twice = two();
+    twice[1].id = "bob".into();
+    assert_eq!(
+        Scene::from_input(input(twice), &limits).unwrap_err().field,
+        "/people/1/id"
+    );
+}
