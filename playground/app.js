@@ -202,7 +202,23 @@ const REACH_DEMO = {
   facts: ["on(cup1,table1)"],
 };
 
-const PRESETS = { lab: PAPER.scenes.lab, office: PAPER.scenes.office, reach: REACH_DEMO };
+/** A kitchen with people: Bob is a child, Alice a parent; try "Give the knife to Bob." once a
+ * `give` verb and a norm on `role(P,child)` are in (README, "People"), or "Get Bob." now. */
+const HOUSEHOLD = {
+  agent: { id: "self", position: [0.0, 0.0, 0.75], reach: 1.2 },
+  objects: [
+    { id: "knife1", type: "knife", position: [0.5, 0.0, 0.8],
+      shape: { cuboid: { half_extents: [0.1, 0.012, 0.005] } } },
+    { id: "cup1", type: "cup", position: [0.5, 0.25, 0.8],
+      shape: { cylinder: { radius: 0.04, half_height: 0.05 } } },
+  ],
+  people: [
+    { id: "bob", names: ["Bob"], roles: ["child"], position: [0.7, 0.45, 0.8] },
+    { id: "alice", names: ["Alice"], roles: ["parent"], position: [0.8, -0.4, 0.8] },
+  ],
+};
+
+const PRESETS = { lab: PAPER.scenes.lab, office: PAPER.scenes.office, reach: REACH_DEMO, household: HOUSEHOLD };
 
 const $ = (id) => document.getElementById(id);
 const SVG_NS = "http://www.w3.org/2000/svg";
@@ -357,7 +373,9 @@ function sceneEdited() {
   try {
     scene = parseScene($("scene-json").value);
     $("scene-json").removeAttribute("aria-invalid");
-    status.textContent = `Drawn: ${scene.objects.length} object${scene.objects.length === 1 ? "" : "s"}.`;
+    const people = scene.people.length;
+    status.textContent = `Drawn: ${scene.objects.length} object${scene.objects.length === 1 ? "" : "s"}` +
+      (people ? `, ${people} ${people === 1 ? "person" : "people"}.` : ".");
     draw();
     fillSceneLists();
   } catch (e) {
@@ -386,6 +404,13 @@ function parseScene(text) {
       throw bad(`objects[${i}] needs an id, a type and a position [x, y, z]`, `/scene/objects/${i}`);
     }
   });
+  value.people = value.people ?? [];
+  if (!Array.isArray(value.people)) throw bad("people must be a list", "/scene/people");
+  value.people.forEach((p, i) => {
+    if (!p || typeof p.id !== "string" || !point(p.position)) {
+      throw bad(`people[${i}] needs an id and a position [x, y, z]`, `/scene/people/${i}`);
+    }
+  });
   return value;
 }
 
@@ -399,12 +424,17 @@ function spoken(word) {
 
 /** A label for the drawing (not the service's description, which depends on the distractors). */
 function objectLabel(o) {
+  if (o.person) {
+    const roles = (o.roles ?? []).map(spoken).join(", ");
+    return `${o.names?.[0] ?? "person"}${roles ? ` (${roles})` : ""}`;
+  }
   const words = [...(o.properties ?? []).map(spoken), ...Object.values(o.attributes ?? {}).map(spoken)];
   return [...words, spoken(o.type)].join(" ");
 }
 
 /** Radius of the object's footprint from above, metres: enough to place labels around it. */
 function footprint(o) {
+  if (o.person) return 0.1;
   const shape = o.shape ?? {};
   if (shape.ball) return shape.ball.radius;
   if (shape.cylinder) return shape.cylinder.radius;
@@ -422,10 +452,16 @@ function yaw(q) {
 /** World (x forward, y left) to view (u right, v down): forward is up the page. */
 const view = (x, y) => [-y * SCALE, -x * SCALE];
 
+/** The scene's objects, then its people as the referents of type `person` they are. */
+function referents() {
+  return [...scene.objects, ...scene.people.map((p) => ({ ...p, type: "person", person: true }))];
+}
+
 function fillSceneLists() {
-  const types = [...new Set(scene.objects.map((o) => o.type))].sort();
+  const all = referents();
+  const types = [...new Set(all.map((o) => o.type))].sort();
   $("types").replaceChildren(...types.map((t) => h("option", { value: t })));
-  $("ids").replaceChildren(...scene.objects.map((o) => h("option", { value: o.id }, objectLabel(o))));
+  $("ids").replaceChildren(...all.map((o) => h("option", { value: o.id }, objectLabel(o))));
 }
 
 function draw() {
@@ -440,7 +476,7 @@ function draw() {
     view(ax - 0.16, ay - 0.12),
     view(ax + agent.reach, ay),
   ];
-  for (const o of scene.objects) {
+  for (const o of referents()) {
     const r = footprint(o);
     pts.push(view(o.position[0] + r, o.position[1] + r), view(o.position[0] - r, o.position[1] - r));
   }
@@ -481,14 +517,22 @@ function draw() {
   const boxes = [];
   const shapes = s("g", {});
   const layout = [];
-  for (const o of scene.objects) {
+  for (const o of referents()) {
     const [u, v] = view(o.position[0], o.position[1]);
     const status = marks.status[o.id];
     const cls = ["obj", status, marks.chosen === o.id ? "chosen" : null].filter(Boolean).join(" ");
     const g = s("g", { class: cls });
     const shape = o.shape ?? {};
     const r = footprint(o) * SCALE;
-    if (shape.cuboid) {
+    if (o.person) {
+      // A person from above: a head inside the shoulders.
+      g.append(
+        s("circle", { class: "obj-shape person-shape", cx: u, cy: v, r }),
+        s("circle", { class: "person-head", cx: u, cy: v, r: r * 0.45 }),
+      );
+      boxes.push({ x0: u - r, x1: u + r, y0: v - r, y1: v + r, owner: o.id });
+      layout.push({ o, u, v, ru: r, rv: r, g });
+    } else if (shape.cuboid) {
       const [hx, hy] = shape.cuboid.half_extents;
       const deg = (-yaw(o.rotation) * 180) / Math.PI;
       g.append(
@@ -540,13 +584,14 @@ function draw() {
       `dashed circle: reach ${agent.reach} m · grid: 10 cm`),
   );
 
-  const parts = scene.objects.map(
-    (o) => `${o.id}, ${objectLabel(o)}, at x ${o.position[0]} m, y ${o.position[1]} m` +
-      (marks.status[o.id] ? `, ${statusWords(marks.status[o.id])}` : ""),
-  );
+  const said = (o) => `${o.id}, ${objectLabel(o)}, at x ${o.position[0]} m, y ${o.position[1]} m` +
+    (marks.status[o.id] ? `, ${statusWords(marks.status[o.id])}` : "");
+  const parts = scene.objects.map(said);
+  const people = referents().filter((o) => o.person).map(said);
   $("scene-svg-desc").textContent =
     `The robot ${agent.id ?? "self"} at x ${ax} m, y ${ay} m with reach ${agent.reach} m. ` +
-    (parts.length ? `Objects: ${parts.join("; ")}.` : "No objects.");
+    (parts.length ? `Objects: ${parts.join("; ")}.` : "No objects.") +
+    (people.length ? ` People: ${people.join("; ")}.` : "");
 }
 
 /** Greedy placement: below, above, right, left, then further out; the first spot that hits nothing. */
@@ -852,9 +897,9 @@ function isSoft(kind) {
   return kind.startsWith("discouraged_") || kind.startsWith("preferred_");
 }
 
-/** The first object of the scene a reading's action names: its main argument. */
+/** The first object or person of the scene a reading's action names: its main argument. */
 function mainObject(action) {
-  const ids = new Set(scene ? scene.objects.map((o) => o.id) : []);
+  const ids = new Set(scene ? referents().map((o) => o.id) : []);
   return (action.match(/[A-Za-z0-9_.-]+/g) ?? []).find((t) => ids.has(t)) ?? null;
 }
 

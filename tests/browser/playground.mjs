@@ -199,6 +199,30 @@ try {
   await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "comply");
   check((await page.textContent("#decision-kind")) === "comply", "the structured task is done whole too");
 
+  // People: the household preset draws them, and "Get Bob." is refused as handling a person.
+  await page.locator("#preset").selectOption("household");
+  await page.getByRole("button", { name: "Load scene" }).click();
+  check(
+    (await page.textContent("#scene-json-status")) === "Drawn: 2 objects, 2 people.",
+    "the household preset draws its people",
+    await page.textContent("#scene-json-status"),
+  );
+  check((await page.locator("#scene-svg .person-shape").count()) === 2, "each person is drawn as a person");
+  check(
+    (await page.textContent("#scene-svg-desc")).includes("People: bob, Bob (child)"),
+    "the drawing's description names the people",
+    await page.textContent("#scene-svg-desc"),
+  );
+  await page.getByLabel("the words only").check();
+  await page.getByLabel("Human's words").fill("Get Bob.");
+  await page.getByLabel("Human's words").press("Enter");
+  await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "refuse");
+  check(
+    (await page.textContent("#utterance")).endsWith("I cannot get Bob because Bob is a person, not an object to handle."),
+    "a person is not an object to handle",
+    await page.textContent("#utterance"),
+  );
+
   check(pageErrors.length === 0, "no console or page errors (CSP included)", pageErrors.join(" | "));
   check(
     failedResponses.length === 1 && failedResponses[0] === "POST /v1/norms 422",
