@@ -56,7 +56,8 @@ impl PersonInput {
     /// named relative to the person; the id's uniqueness is the scene's to check.
     pub(super) fn checked(self, id: Sym, index: usize) -> Result<(Object, Person), Invalid> {
         finite("/position", &self.position)?;
-        let name = self.names.first().map(|n| n.trim().to_owned());
+        // Spoken as written, but one space between words.
+        let name = (self.names.first()).map(|n| n.split_whitespace().collect::<Vec<_>>().join(" "));
         let mut names = names_of(self.names)?;
         let roles = validate_roles("/roles", Some(self.roles))?;
         for role in &roles {
@@ -166,7 +167,12 @@ pub(super) fn settle(people: &mut [Person], objects: &[Object]) {
     }
     let words: Vec<Option<String>> = (people.iter())
         .map(
-            |p| match (p.name.as_ref()).filter(|n| called.get(n.to_lowercase().as_str()) == Some(&1)) {
+            // The first name as heard is the first of the object's names (normalised as words
+            // are); it is spoken as written.
+            |p| match (p.name.as_ref()).filter(|_| {
+                let heard = objects[p.index].names.first().map(String::as_str);
+                heard.is_some_and(|n| called.get(n) == Some(&1))
+            }) {
                 Some(name) => Some(name.clone()),
                 None => (p.roles.iter())
                     .find(|r| roles.get(r.as_str()) == Some(&1) && called.get(spoken(r).as_str()) == Some(&1))

@@ -254,6 +254,12 @@ fn people_yield_person_and_role_facts_and_the_speaker_is_a_person() {
         d.utterance,
         "Do you mean that you want me to point to the child or that you want me to point to the parent?"
     );
+    // A name as written, with stray spaces, is heard and spoken as one.
+    let spaced = kitchen(1, vec![person("bob", Some("  Bob   Smith "), &["child"], 0.6)]);
+    let d = decide(&said("Point to bob smith.", "human"), &spaced);
+    assert_eq!(d.goal.as_ref().map(|g| g.to_string()).as_deref(), Some("did(self,pointTo(bob))"));
+    let bob = spaced.object("bob").unwrap();
+    assert_eq!(crate::engine::describe::describe_object(&spaced, bob), "Bob Smith");
 }
 
 /// What the oracle knows: each person's roles, from the scene and, for the speaker, the request.
