@@ -257,7 +257,10 @@ fn people_yield_person_and_role_facts_and_the_speaker_is_a_person() {
     // A name as written, with stray spaces, is heard and spoken as one.
     let spaced = kitchen(1, vec![person("bob", Some("  Bob   Smith "), &["child"], 0.6)]);
     let d = decide(&said("Point to bob smith.", "human"), &spaced);
-    assert_eq!(d.goal.as_ref().map(|g| g.to_string()).as_deref(), Some("did(self,pointTo(bob))"));
+    assert_eq!(
+        d.goal.as_ref().map(|g| g.to_string()).as_deref(),
+        Some("did(self,pointTo(bob))")
+    );
     let bob = spaced.object("bob").unwrap();
     assert_eq!(crate::engine::describe::describe_object(&spaced, bob), "Bob Smith");
 }
