@@ -305,8 +305,8 @@ impl Scene {
             ));
         }
         let agent = Agent::from_input(input.agent).map_err(|e| e.within("/agent"))?;
-        let mut by_id = Ids(HashTable::with_capacity(input.objects.len()));
-        let mut objects = Vec::with_capacity(input.objects.len());
+        let mut by_id = Ids(HashTable::with_capacity(all));
+        let mut objects = Vec::with_capacity(all);
         for (i, o) in input.objects.into_iter().enumerate() {
             let at = || format!("/objects/{i}");
             constant("/id", &o.id, "an object id").map_err(|e| e.within(&at()))?;

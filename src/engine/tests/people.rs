@@ -45,8 +45,8 @@ fn person(id: &str, name: Option<&str>, roles: &[&str], x: f64) -> PersonInput {
 }
 
 /// `knives` knives and a cup within reach; `people` as given.
-fn kitchen(knives: usize, people: Vec<PersonInput>) -> Scene {
-    let input = SceneInput {
+fn kitchen_input(knives: usize, people: Vec<PersonInput>) -> SceneInput {
+    SceneInput {
         agent: AgentInput {
             id: None,
             position: [0.0, 0.0, 0.75],
@@ -62,8 +62,11 @@ fn kitchen(knives: usize, people: Vec<PersonInput>) -> Scene {
             .collect(),
         facts: vec![],
         people,
-    };
-    Scene::from_input(input, &RequestLimits::default()).unwrap()
+    }
+}
+
+fn kitchen(knives: usize, people: Vec<PersonInput>) -> Scene {
+    Scene::from_input(kitchen_input(knives, people), &RequestLimits::default()).unwrap()
 }
 
 /// One knife, a cup, a child, a parent and a visitor out of reach.
@@ -398,20 +401,7 @@ fn people_count_against_the_objects_limit_and_their_faults_are_named() {
         max_objects: 4,
         ..RequestLimits::default()
     };
-    let input = |people: Vec<PersonInput>| SceneInput {
-        agent: AgentInput {
-            id: None,
-            position: [0.0, 0.0, 0.75],
-            reach: 1.2,
-            gripper_aperture: None,
-            payload: None,
-            gripper_size: None,
-            rotation: None,
-        },
-        objects: vec![thing("knife1", "knife", 0.0), thing("cup1", "cup", 0.2)],
-        facts: vec![],
-        people,
-    };
+    let input = |people| kitchen_input(1, people);
     let two = || vec![person("bob", Some("Bob"), &[], 0.6), person("alice", None, &[], 0.7)];
     assert!(Scene::from_input(input(two()), &limits).is_ok());
     let mut three = two();

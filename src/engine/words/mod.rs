@@ -288,8 +288,12 @@ pub fn understand(
     if !first_way.ambiguous() {
         return first;
     }
+    // The first way is already read: each other way is read once.
     let mut naming = Vec::new();
-    for mut way in first_way.ways() {
+    if splits::names_something(&first, scene, expired) {
+        naming.push(first.clone());
+    }
+    for mut way in first_way.ways().into_iter().skip(1) {
         let reading = focused(grammar::read(text, &lexicon, &mut way), focus);
         if expired() {
             return Understanding::Expired;
