@@ -4,7 +4,7 @@
 //! recursion through the library), and the default library (get, pointTo, destroy, steal, put).
 //! Must not: simulate anything (`simulate` interprets these definitions) or read the database.
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -12,8 +12,14 @@ use serde::{Deserialize, Serialize};
 use super::input::Invalid;
 use super::term::{Subst, Sym, Term, is_constant_name};
 
+mod defaults;
+mod implied;
 mod words;
 
+pub use defaults::DEFAULT_VERBS;
+
+pub use implied::Unsaid;
+use implied::implied_of;
 pub use words::relation_of;
 use words::{collide, grammar_free, phrases};
 
@@ -65,6 +71,10 @@ pub struct ActionDef {
     pub words: Vec<String>,
     /// For a verb of two parameters: the words understood between its arguments ("into").
     pub joiners: Vec<String>,
+    /// Parameters a directive may leave unsaid, in parameter order, each with the facts over it
+    /// alone that an object must meet to be its argument (`Y`: `heater(Y)`). They are the verb's
+    /// last parameters, never its first.
+    pub implied: Vec<(Sym, Vec<Term>)>,
 }
 
 impl ActionDef {
@@ -95,6 +105,10 @@ impl ActionDef {
                 }));
             terms.for_each(Term::make_lasting);
         }
+        self.implied
+            .iter()
+            .flat_map(|(_, facts)| facts)
+            .for_each(Term::make_lasting);
     }
 
     /// The verbs this one's steps call, by name and arity.
@@ -136,6 +150,11 @@ pub struct ActionInput {
     /// `["on", "onto", "into"]`. `joiner` stays the one word spoken.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joiners: Vec<String>,
+    /// Parameters a directive may leave unsaid, each with the facts an object must meet to be
+    /// its argument: `{"Y": ["heater(Y)"]}`. Left out, the argument ranges over the scene's
+    /// objects that meet them.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub implied: BTreeMap<String, Vec<String>>,
 }
 
 /// One way of carrying a verb out. Terms are written over the verb's parameters.
@@ -258,6 +277,7 @@ impl ActionInput {
         if !joiners.is_empty() && params.len() != 2 {
             return Err(Invalid::new("/joiners", "joiners go with a verb of two parameters"));
         }
+        let implied = implied_of(&self.implied, &params)?;
         Ok(ActionDef {
             name: Sym::from(name),
             params,
@@ -266,6 +286,7 @@ impl ActionInput {
             methods,
             words,
             joiners,
+            implied,
         })
     }
 }
@@ -365,6 +386,9 @@ impl ActionDef {
             distinct: self.distinct,
             words: self.words.clone(),
             joiners: self.joiners.clone(),
+            implied: (self.implied.iter())
+                .map(|(p, facts)| (p.to_string(), texts(facts)))
+                .collect(),
             methods: self
                 .methods
                 .iter()
@@ -418,10 +442,8 @@ pub struct VerbPhrase {
     pub arity: usize,
     /// The words understood between the verb's two arguments.
     pub joiners: Vec<String>,
-}
-
-fn term(text: &str) -> Term {
-    Term::parse(text).expect("the default library is written in valid terms")
+    /// Whether the verb's arguments after its first may be left unsaid ("Heat up the soup.").
+    pub leaves_unsaid: bool,
 }
 
 impl Library {
@@ -497,6 +519,7 @@ impl Library {
                         verb: def.name.to_string(),
                         arity: def.params.len(),
                         joiners: def.joiners.clone(),
+                        leaves_unsaid: def.unsaid(1).is_some(),
                     })
                 })
                 .collect();
@@ -627,69 +650,5 @@ impl Library {
         let mut all: Vec<&ActionDef> = self.defs.values().collect();
         all.sort_by(|a, b| a.name.cmp(&b.name).then(a.params.len().cmp(&b.params.len())));
         all
-    }
-
-    /// The contract's default library.
-    pub fn default_library() -> Library {
-        let one = |name: &str, words: &[&str], reach: &[&str], grasp: &[&str], adds: &[&str]| ActionDef {
-            name: Sym::from(name),
-            params: vec![Sym::from("X")],
-            joiner: None,
-            distinct: false,
-            words: words.iter().map(|w| (*w).to_owned()).collect(),
-            joiners: vec![],
-            methods: vec![Method {
-                reach: reach.iter().map(|p| Sym::from(*p)).collect(),
-                grasp: grasp.iter().map(|p| Sym::from(*p)).collect(),
-                place: None,
-                preconditions: vec![],
-                steps: vec![Step::Itself],
-                adds: adds.iter().map(|t| term(t)).collect(),
-                removes: vec![],
-            }],
-        };
-        let put = ActionDef {
-            name: Sym::from("put"),
-            params: vec![Sym::from("X"), Sym::from("Y")],
-            joiner: Some("on".into()),
-            distinct: true,
-            words: ["put", "place", "set", "position"].map(String::from).to_vec(),
-            joiners: ["on", "onto", "in", "into", "upon", "inside"]
-                .map(String::from)
-                .to_vec(),
-            methods: vec![Method {
-                reach: vec![Sym::from("X"), Sym::from("Y")],
-                // X was grasped by the get step.
-                grasp: vec![],
-                place: Some((Sym::from("X"), Sym::from("Y"))),
-                preconditions: vec![],
-                steps: vec![Step::Do(term("get(X)")), Step::Itself],
-                adds: vec![term("on(X,Y)")],
-                removes: vec![term("holding(self,X)")],
-            }],
-        };
-        let mut library = Library::default();
-        for def in [
-            one(
-                "get",
-                &["get", "grab", "take", "pick up", "fetch", "bring", "hand"],
-                &["X"],
-                &["X"],
-                &["holding(self,X)"],
-            ),
-            one("pointTo", &["point to", "point at"], &[], &[], &[]),
-            one(
-                "destroy",
-                &["destroy", "break", "smash", "wreck"],
-                &["X"],
-                &[],
-                &["destroyed(X)"],
-            ),
-            one("steal", &["steal"], &["X"], &["X"], &["holding(self,X)"]),
-            put,
-        ] {
-            library.insert(def).expect("the default library has no cycles");
-        }
-        library
     }
 }

@@ -141,7 +141,7 @@ pub fn clarify_read(
 ) -> Result<Decision, EngineError> {
     let speaker = Term::Const(request.speaker.clone());
     let not_read = |why: Unclear, words: String, limits: Option<Limits>| {
-        let mut describer = Describer::new(scene, library);
+        let mut describer = Describer::new(scene, library).to(&request.speaker);
         let plan = Plan::NotUnderstood { why, words };
         let mut decision = render(
             &speaker,
@@ -237,7 +237,7 @@ fn decide_directive(
 ) -> Result<Decision, EngineError> {
     let speaker = Term::Const(request.speaker.clone());
     let options = request.options;
-    let mut describer = Describer::new(scene, library);
+    let mut describer = Describer::new(scene, library).to(&request.speaker);
     let finish = |plan: Plan, interpretations: Vec<Interpretation>, limits, describer: &mut Describer<'_>| {
         let mut decision = render(
             &speaker,
@@ -270,14 +270,8 @@ fn decide_directive(
     }
 
     // A plural argument makes a step per object: an action with one is a task of one step.
-    let as_task;
-    let directive = match directive.plural_action() {
-        Some(task) => {
-            as_task = Directive::Task(task);
-            &as_task
-        }
-        None => directive,
-    };
+    let resolved = directive.as_resolved(library, scene, &request.speaker);
+    let directive = &*resolved;
     let relation = joined(directive, library, &mut describer)?;
     // A task's purposes name objects too, which no reading binds: one that matches nothing is
     // said as any reference that does.

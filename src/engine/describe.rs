@@ -260,6 +260,8 @@ pub struct Describer<'a> {
     said: Option<(Sym, String)>,
     /// Whether a landmark or a position told an object described so far apart.
     told: bool,
+    /// Who the robot speaks to: spoken "you" when a person or not in the scene at all.
+    listener: Option<Sym>,
 }
 
 impl<'a> Describer<'a> {
@@ -273,7 +275,26 @@ impl<'a> Describer<'a> {
             alone: Vec::new(),
             said: None,
             told: false,
+            listener: None,
         }
+    }
+
+    /// The verb "to be" after `subject` spoken, spaced: " are " after "you", else " is ".
+    pub fn copula(&self, subject: &Term) -> &'static str {
+        match (self.listener.as_ref(), subject) {
+            (Some(listener), Term::Const(id)) if listener == id => " are ",
+            _ => " is ",
+        }
+    }
+
+    /// The same describer, speaking to `speaker`: they are "you".
+    pub fn to(mut self, speaker: &Sym) -> Self {
+        let person = self
+            .scene
+            .object(speaker)
+            .is_none_or(|o| o.kind == crate::engine::scene::PERSON);
+        self.listener = person.then(|| speaker.clone());
+        self
     }
 
     /// Another describer of the same scene, for another thread: its own cache of descriptions,
@@ -288,6 +309,7 @@ impl<'a> Describer<'a> {
             alone: self.alone.clone(),
             said: self.said.clone(),
             told: false,
+            listener: self.listener.clone(),
         }
     }
 
@@ -366,6 +388,10 @@ impl<'a> Describer<'a> {
             out.push_str(&arg.to_string());
             return;
         };
+        if self.listener.as_ref() == Some(name) {
+            out.push_str("you");
+            return;
+        }
         if let Some(words) = self.cache.get(name) {
             self.push_spoken(name, words, out);
             return;

@@ -7,14 +7,17 @@
 use std::collections::BTreeMap;
 
 use super::input::{Invalid, constant};
-use super::request::{Answer, Directive, MOST_READINGS};
+use super::request::{Directive, MOST_READINGS};
 use super::scene::relate::{Direction, Relation, Superlative};
 use super::scene::{Object, Scene, spoken};
 use super::task::Shape;
 use super::term::{Subst, Sym, Term};
 
+mod narrowed;
 mod number;
 mod select;
+mod unsaid;
+pub(super) use narrowed::Narrowed;
 pub use number::{MAX_GROUP, Number, count_of, members, objects_of, plural, singulars};
 pub use select::Selected;
 
@@ -116,6 +119,17 @@ pub enum Reference {
         number: Number,
         words: String,
     },
+    /// An argument the directive left unsaid ("Heat up the soup."): any object for which
+    /// `facts` hold with `param` bound to it; `untold` says what is missing when none does.
+    Implied {
+        param: Sym,
+        facts: Vec<Term>,
+        words: String,
+        untold: String,
+    },
+    /// The speaker ("me", or a recipient left unsaid): their object when the scene holds them,
+    /// else the speaker by id alone ([`unsaid`]).
+    Speaker(String),
 }
 
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
@@ -285,7 +299,8 @@ impl Reference {
             | Reference::Most { base, .. }
             | Reference::Nth { base, .. }
             | Reference::Plural { base, .. } => base.head_matches(object),
-            Reference::Pronoun { .. } | Reference::Nothing { .. } => false,
+            Reference::Speaker(id) => object.id == id.as_str(),
+            Reference::Pronoun { .. } | Reference::Nothing { .. } | Reference::Implied { .. } => false,
         }
     }
 
@@ -301,7 +316,11 @@ impl Reference {
             Reference::Most { base, .. } | Reference::Nth { base, .. } | Reference::Plural { base, .. } => {
                 base.names_nothing()
             }
-            Reference::Id(_) | Reference::Described { .. } | Reference::Spoken { .. } => false,
+            Reference::Id(_)
+            | Reference::Described { .. }
+            | Reference::Spoken { .. }
+            | Reference::Implied { .. }
+            | Reference::Speaker(_) => false,
         }
     }
 
@@ -361,7 +380,9 @@ impl Reference {
             | Reference::Most { words, .. }
             | Reference::Nth { words, .. }
             | Reference::Plural { words, .. }
+            | Reference::Implied { words, .. }
             | Reference::Narrowed { words, .. } => words.clone(),
+            Reference::Speaker(_) => "me".to_owned(),
         }
     }
 
@@ -468,6 +489,19 @@ fn common_noun(scene: &Scene, candidates: &[(Term, f64)]) -> String {
 /// deadline it is left empty; the caller asks the deadline before reading an empty slot.
 /// A plural reference's slot offers groups of its matches ([`number::groups`]).
 pub(super) fn slot(reference: &Reference, scene: &Scene, expired: &dyn Fn() -> bool) -> Slot {
+    // A speaker the scene does not hold is named by id: they come for what they are given.
+    if let Reference::Speaker(id) = reference
+        && scene.index_of(id).is_none()
+    {
+        return Slot {
+            candidates: vec![(Term::constant(id), 1.0)],
+            words: reference.words(scene),
+            noun: "you".to_owned(),
+            unplaced: None,
+            untold: None,
+            group: false,
+        };
+    }
     let selected = reference.select_once(scene, expired).unwrap_or_default();
     let objects: Vec<(Term, f64)> = (selected.objects.iter())
         .map(|&i| (Term::Const(scene.objects[i].id.clone()), 1.0))
@@ -587,94 +621,5 @@ pub(super) fn combinations(lists: &[&[(Term, f64)]]) -> Vec<(Vec<Term>, f64)> {
             }
             choice[slot] = 0;
         }
-    }
-}
-
-/// Whether an object the answer names is this candidate; `named`: the objects (by index) an
-/// answer that is a reference selects.
-fn answer_names(answer: &Answer, named: &[bool], value: &Term, scene: &Scene) -> bool {
-    // A group is named when one of its objects is.
-    if let Some(members) = members(value) {
-        return members.iter().any(|m| answer_names(answer, named, m, scene));
-    }
-    let Some(index) = value.name().and_then(|id| scene.index_of(id)) else {
-        return false;
-    };
-    match answer {
-        Answer::Id(id) => scene.objects[index].id == id.as_str(),
-        Answer::Reference(_) => named[index],
-        Answer::Choice(_) | Answer::Yes | Answer::No | Answer::Cancel(_) | Answer::Directive(_) | Answer::Words(_) => {
-            true
-        }
-    }
-}
-
-/// The readings a follow-up keeps (those with an argument the answer names), counted and built
-/// without going through the others: the answer narrows the readings before `max_readings` is
-/// applied, so five cups and "c2" are one reading, not five times five.
-pub(super) struct Narrowed {
-    /// Per slot: the candidates the answer names, and the others.
-    named: Vec<Vec<(Term, f64)>>,
-    others: Vec<Vec<(Term, f64)>>,
-}
-
-impl Narrowed {
-    pub(super) fn new(answer: &Answer, slots: &[Slot], scene: &Scene, expired: &dyn Fn() -> bool) -> Narrowed {
-        let mut selected = vec![false; scene.objects.len()];
-        if let Answer::Reference(reference) = answer {
-            for i in reference.select(scene, expired).unwrap_or_default().objects {
-                selected[i] = true;
-            }
-        }
-        let (named, others) = slots
-            .iter()
-            .map(|s| {
-                s.candidates
-                    .iter()
-                    .cloned()
-                    .partition(|(t, _)| answer_names(answer, &selected, t, scene))
-            })
-            .unzip();
-        Narrowed { named, others }
-    }
-
-    /// All combinations less those that name nothing the answer names.
-    pub(super) fn count(&self) -> u128 {
-        let product = |lists: &[Vec<(Term, f64)>], with: &[Vec<(Term, f64)>]| {
-            lists
-                .iter()
-                .zip(with)
-                .try_fold(1u128, |n, (a, b)| n.checked_mul((a.len() + b.len()) as u128))
-        };
-        let none = self
-            .others
-            .iter()
-            .try_fold(1u128, |n, l| n.checked_mul(l.len() as u128));
-        match (product(&self.named, &self.others), none) {
-            (Some(all), Some(none)) => all - none,
-            _ => u128::MAX,
-        }
-    }
-
-    /// Each kept combination once: slot `i` is the first whose value the answer names.
-    pub(super) fn combinations(&self) -> Vec<(Vec<Term>, f64)> {
-        let all: Vec<Vec<(Term, f64)>> = self
-            .named
-            .iter()
-            .zip(&self.others)
-            .map(|(a, b)| a.iter().chain(b).cloned().collect())
-            .collect();
-        let mut out = Vec::new();
-        for first in 0..self.named.len() {
-            let lists: Vec<&[(Term, f64)]> = (0..self.named.len())
-                .map(|j| match j.cmp(&first) {
-                    std::cmp::Ordering::Less => self.others[j].as_slice(),
-                    std::cmp::Ordering::Equal => self.named[j].as_slice(),
-                    std::cmp::Ordering::Greater => all[j].as_slice(),
-                })
-                .collect();
-            out.extend(combinations(&lists));
-        }
-        out
     }
 }

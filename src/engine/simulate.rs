@@ -344,17 +344,28 @@ impl Run<'_, '_> {
         let handled =
             (def.reach.iter().chain(&def.grasp)).chain(def.place.iter().flat_map(|(item, support)| [item, support]));
         let mut people: smallvec::SmallVec<[&Sym; 2]> = smallvec::SmallVec::new();
+        // (One the scene knows by facts alone is a person too: the speaker it does not place.)
+        let world = &self.world;
+        let person_of = |param: &Sym| match bindings.get(param) {
+            Some(Term::Const(id)) => match scene.object(id) {
+                Some(o) => (o.kind == PERSON).then_some(&o.id),
+                None => world
+                    .holds(&Term::compound(PERSON, vec![Term::Const(id.clone())]))
+                    .then_some(id),
+            },
+            _ => None,
+        };
+        let mut found = Vec::new();
         for param in handled {
-            if let Some(person) = object_of(param).filter(|o| o.kind == PERSON)
-                && !people.contains(&&person.id)
-                && !declares_person(def, param)
+            if let Some(person) = person_of(param)
+                && !people.contains(&person)
+                && !def.takes_person(param)
             {
-                people.push(&person.id);
-                self.push(Reason::infeasible(Cause::Person {
-                    person: person.id.clone(),
-                }));
+                people.push(person);
+                found.push(Reason::infeasible(Cause::Person { person: person.clone() }));
             }
         }
+        found.into_iter().for_each(|r| self.push(r));
         let object_of = |param: &Sym| object_of(param).filter(|o| !people.contains(&&o.id));
         for param in &def.reach {
             let Some(target) = bindings.get(param) else { continue };
@@ -362,7 +373,11 @@ impl Run<'_, '_> {
                 continue;
             }
             let Some(object) = object_of(param) else {
-                self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
+                // A person the scene knows by facts alone (the speaker, whom it does not place)
+                // comes for what they are handed: there is nowhere to reach for.
+                if !self.world.holds(&Term::compound(PERSON, vec![target.clone()])) {
+                    self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
+                }
                 continue;
             };
             if scene.within_reach(&object.id) != Some(true) {
@@ -411,12 +426,6 @@ impl Run<'_, '_> {
             }
         }
     }
-}
-
-/// Whether `method` takes a person as `param`: `person(P)` is among its preconditions.
-fn declares_person(method: &Method, param: &Sym) -> bool {
-    (method.preconditions.iter())
-        .any(|f| f.name().is_some_and(|n| &**n == PERSON) && matches!(f.args(), [Term::Var(v)] if v == param))
 }
 
 /// Simulates doing `action` (ground) in a private copy of `world`, in DIARC's order: (1) the

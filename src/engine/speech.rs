@@ -144,7 +144,11 @@ fn geometry_words(cause: &Cause, describer: &mut Describer<'_>, natural: bool) -
             let item = name(item);
             format!("there is no room for {item} on {}", name(support))
         }
-        Cause::Person { person } => format!("{} is a person, not an object to handle", name(person)),
+        Cause::Person { person } => {
+            let person = Term::Const(person.clone());
+            let be = describer.copula(&person);
+            format!("{}{be}a person, not an object to handle", describer.argument(&person))
+        }
         Cause::SameObject { verb, object, joiner } => format!(
             "{} cannot be {} {} itself",
             name(object),
@@ -210,11 +214,16 @@ fn which(nouns: &[String]) -> Vec<String> {
 /// `color(box1,red)` → "the color of the box is not red"; anything else canonical.
 fn not_the_case(fact: &Term, describer: &mut Describer<'_>) -> String {
     if let Some(predicate) = person_predicate(fact) {
-        return format!("{} is not {predicate}", describer.argument(&fact.args()[0]));
+        let subject = &fact.args()[0];
+        return format!(
+            "{}{}not {predicate}",
+            describer.argument(subject),
+            describer.copula(subject)
+        );
     }
     let name = fact.name().map(|n| spoken(n)).unwrap_or_default();
     match fact.args() {
-        [subject] => format!("{} is not {name}", describer.argument(subject)),
+        [subject] => format!("{}{}not {name}", describer.argument(subject), describer.copula(subject)),
         [subject, value] => format!(
             "the {name} of {} is not {}",
             describer.argument(subject),

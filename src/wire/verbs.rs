@@ -36,6 +36,11 @@ pub struct ActionSchema {
     /// words: `["on", "onto", "into"]`. `joiner` stays the one word spoken.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joiners: Vec<String>,
+    /// Parameters a directive may leave unsaid, each with 1 to 32 facts over it alone that an
+    /// object must meet to be its argument: `{"Y": ["heater(Y)"]}` ("heat the soup": with
+    /// whichever heater the scene holds). Only the verb's last parameters, never its first.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub implied: std::collections::BTreeMap<String, Vec<String>>,
 }
 
 /// One way of carrying a verb out. Terms are written over the verb's parameters.
@@ -102,6 +107,7 @@ mod tests {
             methods: vec![method.clone()],
             words: vec!["open".into()],
             joiners: vec!["with".into()],
+            implied: [("Y".to_owned(), vec!["heater(Y)".to_owned()])].into(),
         };
         let mut written = members(serde_json::to_value(&verb).unwrap());
         let mut declared = schema_members::<ActionSchema>();

@@ -282,14 +282,33 @@ on_both_backends!(
     |store: Arc<dyn NormStore>| async move {
         let (start, verbs) = store.load_actions().await.unwrap();
         let names: Vec<&str> = verbs.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["destroy", "get", "pointTo", "put", "steal"]);
+        assert_eq!(
+            names,
+            [
+                "clean",
+                "close",
+                "cut",
+                "destroy",
+                "discard",
+                "get",
+                "give",
+                "heat",
+                "open",
+                "pointTo",
+                "pour",
+                "put",
+                "steal",
+                "switchOff",
+                "switchOn"
+            ]
+        );
         let open: ActionInput =
             serde_json::from_value(serde_json::json!({"parameters": ["X"], "methods": [{"adds": ["open(X)"]}]}))
                 .unwrap();
         let accept_all = |_: &[StoredAction]| Ok(());
         assert!(
             store
-                .put_action("open", &open, &accept_all, "alice")
+                .put_action("unseal", &open, &accept_all, "alice")
                 .await
                 .unwrap()
                 .unwrap(),
@@ -297,7 +316,7 @@ on_both_backends!(
         );
         assert!(
             !store
-                .put_action("open", &open, &accept_all, "alice")
+                .put_action("unseal", &open, &accept_all, "alice")
                 .await
                 .unwrap()
                 .unwrap(),
@@ -305,14 +324,14 @@ on_both_backends!(
         );
         let refuse = |all: &[StoredAction]| -> Result<(), Error> {
             assert!(
-                all.iter().any(|(n, _)| n == "close"),
+                all.iter().any(|(n, _)| n == "reseal"),
                 "the judge sees the library as it would be"
             );
             Err(Error::invalid("/methods", "refused"))
         };
         assert!(
             store
-                .put_action("close", &open, &refuse, "alice")
+                .put_action("reseal", &open, &refuse, "alice")
                 .await
                 .unwrap()
                 .is_err()
@@ -320,18 +339,30 @@ on_both_backends!(
         // A delete the judge refuses (another verb calls it) writes nothing either.
         let keep = |rest: &[StoredAction]| -> Result<(), Error> {
             assert!(
-                !rest.iter().any(|(n, _)| n == "open"),
+                !rest.iter().any(|(n, _)| n == "unseal"),
                 "the judge sees the library without it"
             );
             Err(Error::invalid("", "refused"))
         };
-        assert!(store.delete_action("open", &keep, "bob").await.unwrap().is_err());
-        assert!(store.delete_action("open", &accept_all, "bob").await.unwrap().unwrap());
-        assert!(!store.delete_action("open", &accept_all, "bob").await.unwrap().unwrap());
+        assert!(store.delete_action("unseal", &keep, "bob").await.unwrap().is_err());
+        assert!(
+            store
+                .delete_action("unseal", &accept_all, "bob")
+                .await
+                .unwrap()
+                .unwrap()
+        );
+        assert!(
+            !store
+                .delete_action("unseal", &accept_all, "bob")
+                .await
+                .unwrap()
+                .unwrap()
+        );
         let (version, verbs) = store.load_actions().await.unwrap();
         assert_eq!(
             (version, verbs.len()),
-            (start + 3, 5),
+            (start + 3, names.len()),
             "the refused verb and the refused delete moved nothing"
         );
         assert_eq!(store.audit(0, 10).await.unwrap().len(), 3);

@@ -378,7 +378,7 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
     assert_eq!(replaced.status(), StatusCode::OK);
     let verb = json!({"parameters": ["X"], "methods": [{"reach": ["X"], "adds": ["open(X)"]}]});
     assert_eq!(
-        alice(app.client.put(app.url("/v1/actions/open")).json(&verb))
+        alice(app.client.put(app.url("/v1/actions/unseal")).json(&verb))
             .await
             .unwrap()
             .status(),
@@ -411,7 +411,7 @@ async fn the_audit_trail_says_when_what_and_which_token_for_every_change() {
         vec![
             ("alice", "norm", "create", target.as_str()),
             ("admin", "norm", "replace", target.as_str()),
-            ("alice", "action", "create", "open"),
+            ("alice", "action", "create", "unseal"),
             ("admin", "norm", "delete", target.as_str()),
         ]
     );

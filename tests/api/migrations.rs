@@ -83,6 +83,8 @@ const SQLITE_AUDIT: i64 = 20261122000004;
 const ID_RANGE: i64 = 20261201000001;
 /// Both: the seeded `put` gains `distinct`.
 const PUT_DISTINCT: i64 = 20261201000002;
+/// Both: the household verbs, "hand" and "bring" moving from a default `get` to `give`.
+const HOUSEHOLD: i64 = 20261207000002;
 
 /// An id an import could store before [`ID_RANGE`]: 2^53 + 1.
 const BEYOND: i64 = 9_007_199_254_740_993;
@@ -578,6 +580,101 @@ async fn a_put_a_curator_rewrote_before_put_distinct_is_left_as_written() {
         assert_eq!(put, expected, "{backend:?}");
         let onto_itself = clarify(&app, directive("put", &["mug", "mug"])).await;
         assert_eq!(onto_itself["decision"], "comply", "{backend:?}: {onto_itself}");
+        app.stop().await;
+    }
+}
+
+/// `…0002_household_verbs` adds the household verbs where absent and moves "hand" and "bring"
+/// to `give` only from a `get` that still has its default words. On a store from just before
+/// it: a default `get` gives them up; a curator's `get` with words of its own keeps every one
+/// (and "Bring the mug." still gets it), a word a curator gave another verb stays with it, and a
+/// curator's `heat` is kept as written; the library loads and decides.
+#[tokio::test]
+async fn the_household_verbs_are_added_where_absent_and_a_curators_words_are_kept() {
+    const SCRUB: &str = r#"{"name":"scrub","parameters":["X"],"methods":[{"reach":["X"],"adds":["clean(X)"]}],"words":["scrub","wash"]}"#;
+    const HEAT: &str = r#"{"name":"heat","parameters":["X"],"methods":[{"reach":["X"],"adds":["warm(X)"]}]}"#;
+    let words = |library: &[Value], verb: &str| -> Value {
+        let def = library
+            .iter()
+            .find(|v| v["name"] == verb)
+            .unwrap_or_else(|| panic!("no {verb}"));
+        def.get("words").cloned().unwrap_or(json!([]))
+    };
+    for backend in [Backend::Sqlite, Backend::Postgres] {
+        let before = (backend.fixture_versions().into_iter())
+            .filter(|v| *v < HOUSEHOLD)
+            .max()
+            .expect("a fixture from before the household verbs");
+
+        // As the older build left it: the default `get` gives "hand" and "bring" to `give`.
+        let restored = Restored::from_fixture(backend, before).await;
+        let url = restored.url();
+        let app = spawn_tweaked(move |c| c.database_url = url).await;
+        let library: Vec<Value> = app.get("/v1/actions").await.json().await.unwrap();
+        assert_eq!(
+            words(&library, "get"),
+            json!(["get", "grab", "take", "pick up", "fetch"]),
+            "{backend:?}"
+        );
+        assert_eq!(
+            words(&library, "give"),
+            json!(["give", "hand", "pass", "bring"]),
+            "{backend:?}"
+        );
+        let scene = lab_scene();
+        let bring = clarify(&app, json!({"directive": {"text": "Bring the mug."}, "scene": scene})).await;
+        assert_eq!(bring["goal"], "did(self,give(object5,human))", "{backend:?}: {bring}");
+        app.stop().await;
+
+        // A curator's `get` with words of its own, "wash" on a verb of theirs, their own `heat`.
+        let restored = Restored::from_fixture(backend, before).await;
+        let get = r#"{"name":"get","parameters":["X"],"methods":[{"steps":["itself"],"reach":["X"],"grasp":["X"],"adds":["holding(self,X)"]}],"words":["get","fetch","bring","hand"]}"#;
+        restored
+            .execute(&format!(
+                "UPDATE actions SET definition = '{get}' WHERE name = 'get';
+                 INSERT INTO actions (name, definition) VALUES ('scrub', '{SCRUB}'), ('heat', '{HEAT}');"
+            ))
+            .await;
+        let url = restored.url();
+        let app = spawn_tweaked(move |c| c.database_url = url).await;
+        let library: Vec<Value> = app.get("/v1/actions").await.json().await.unwrap();
+        assert_eq!(
+            words(&library, "get"),
+            json!(["get", "fetch", "bring", "hand"]),
+            "{backend:?}"
+        );
+        assert_eq!(words(&library, "give"), json!(["give", "pass"]), "{backend:?}");
+        assert_eq!(words(&library, "scrub"), json!(["scrub", "wash"]), "{backend:?}");
+        assert_eq!(
+            words(&library, "clean"),
+            json!(["clean", "rinse", "wipe"]),
+            "{backend:?}"
+        );
+        let heat = library.iter().find(|v| v["name"] == "heat").unwrap();
+        assert_eq!(
+            heat["parameters"],
+            json!(["X"]),
+            "{backend:?}: the curator's heat is kept: {heat}"
+        );
+        assert!(heat.get("implied").is_none(), "{backend:?}: {heat}");
+        for name in ["open", "close", "discard", "pour", "cut", "switchOn", "switchOff"] {
+            assert!(
+                library.iter().any(|v| v["name"] == name),
+                "{backend:?}: {name} was added"
+            );
+        }
+        let bring = clarify(
+            &app,
+            json!({"directive": {"text": "Bring the mug."}, "scene": lab_scene()}),
+        )
+        .await;
+        assert_eq!(bring["goal"], "did(self,get(object5))", "{backend:?}: {bring}");
+        let wash = clarify(
+            &app,
+            json!({"directive": {"text": "Wash the mug."}, "scene": lab_scene()}),
+        )
+        .await;
+        assert_eq!(wash["goal"], "did(self,scrub(object5))", "{backend:?}: {wash}");
         app.stop().await;
     }
 }

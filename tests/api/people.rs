@@ -25,14 +25,9 @@ fn said(text: &str) -> Value {
     json!({"directive": {"text": text}, "scene": kitchen()})
 }
 
-/// A curator's `give`: its method declares the recipient a person; no knives for children.
+/// The default `give` (its method declares the recipient a person); no knives for children.
 async fn household() -> TestApp {
     let app = spawn_app().await;
-    let give = json!({"parameters": ["X", "P"], "joiner": "to", "words": ["give", "pass"], "joiners": ["to"],
-        "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "P"], "preconditions": ["person(P)"],
-                     "adds": ["holding(P,X)"], "removes": ["holding(self,X)"]}]});
-    let response = (app.client.put(app.url("/v1/actions/give")).json(&give).send().await).unwrap();
-    assert!(response.status().is_success(), "{}", response.status());
     app.add_norm(&json!({"kind": "forbidden_action", "action": "give(X,P)", "when": ["knife(X)", "role(P,child)"]}))
         .await;
     app
@@ -54,6 +49,11 @@ async fn a_norm_on_the_recipients_role_is_not_bypassed_by_naming_them_otherwise(
     ] {
         let answer = app.clarify(&body).await;
         assert_eq!(answer["decision"], "refuse", "{body}: {answer}");
+        // Spoken to Bob, Bob is "you".
+        let refusal = match body["speaker"] == "bob" {
+            true => refusal.replace("to Bob", "to you").replace("Bob is", "you are"),
+            false => refusal.to_owned(),
+        };
         assert_eq!(answer["utterance"], refusal);
         assert_eq!(answer["interpretations"][0]["reasons"][0]["kind"], "forbidden_action");
     }
@@ -64,9 +64,31 @@ async fn a_norm_on_the_recipients_role_is_not_bypassed_by_naming_them_otherwise(
     alice_as_child["speaker"] = json!("alice");
     alice_as_child["speaker_roles"] = json!(["child"]);
     assert_eq!(app.clarify(&alice_as_child).await["decision"], "refuse");
-    // A speaker who is not among the people is no one the robot can hand things to.
-    let answer = app.clarify(&said("Give the cup to me.")).await;
-    assert_eq!(answer["decision"], "unresolved", "{answer}");
+    // A speaker who is not among the people is handed things all the same: they come for them
+    // ("bring" and "hand me" leave the recipient to the speaker), and are spoken "you".
+    for text in [
+        "Give the cup to me.",
+        "Bring the cup.",
+        "Hand me the cup.",
+        "I need the cup.",
+    ] {
+        let answer = app.clarify(&said(text)).await;
+        assert_eq!(
+            (&answer["decision"], &answer["goal"]),
+            (&json!("comply"), &json!("did(self,give(cup1,human))")),
+            "{text}: {answer}"
+        );
+    }
+    let answer = app.clarify(&said("Hand me the knife.")).await;
+    assert_eq!(answer["goal"], "did(self,give(knife1,human))", "{answer}");
+    let mut child = said("Hand me the knife.");
+    child["speaker_roles"] = json!(["child"]);
+    let answer = app.clarify(&child).await;
+    assert_eq!(
+        answer["utterance"],
+        "I cannot give the knife to you because giving the knife to you is forbidden when you are a child.",
+        "{answer}"
+    );
     // The same over gRPC.
     let mut clarifier = ClarifierClient::new(channel(&app).await);
     for body in [said("Give the knife to Bob."), said("Point to the person.")] {

@@ -31,8 +31,8 @@ fn serving_norm() -> Value {
            "severity": 2, "note": "one serves with clean things"})
 }
 
-fn hand_me_the_mug(scene: Value) -> Value {
-    json!({"directive": {"text": "Hand me the mug."}, "scene": scene, "context": "serving"})
+fn get_me_the_mug(scene: Value) -> Value {
+    json!({"directive": {"text": "Get me the mug."}, "scene": scene, "context": "serving"})
 }
 
 #[tokio::test]
@@ -43,7 +43,7 @@ async fn serving_gives_the_clean_mug_and_says_why_not_the_dirty_one() {
     assert_eq!(stored["kind"], "discouraged_action");
     assert_eq!(stored["severity"], 2);
 
-    let answer = app.clarify(&hand_me_the_mug(tray(true, 1))).await;
+    let answer = app.clarify(&get_me_the_mug(tray(true, 1))).await;
     assert_eq!(answer["decision"], "assume", "{answer}");
     assert_eq!(answer["goal"], "did(self,get(mug1))");
     assert_eq!(
@@ -65,7 +65,7 @@ async fn serving_gives_the_clean_mug_and_says_why_not_the_dirty_one() {
     );
 
     // Two clean and a dirty one: which clean one; the dirty one is never offered.
-    let answer = app.clarify(&hand_me_the_mug(tray(true, 2))).await;
+    let answer = app.clarify(&get_me_the_mug(tray(true, 2))).await;
     assert_eq!(answer["decision"], "ask");
     assert_eq!(
         answer["utterance"],
@@ -74,12 +74,12 @@ async fn serving_gives_the_clean_mug_and_says_why_not_the_dirty_one() {
     assert_eq!(answer["offered"], json!(["did(self,get(mug1))", "did(self,get(mug2))"]));
 
     // Only the dirty mug: handed over, saying so.
-    let answer = app.clarify(&hand_me_the_mug(tray(true, 0))).await;
+    let answer = app.clarify(&get_me_the_mug(tray(true, 0))).await;
     assert_eq!(answer["decision"], "comply");
     assert_eq!(answer["utterance"], "Okay, although the mug is dirty.");
 
     // The control condition: today's question.
-    let mut ignoring = hand_me_the_mug(tray(true, 1));
+    let mut ignoring = get_me_the_mug(tray(true, 1));
     ignoring["options"] = json!({"soft_norms": "ignore"});
     let answer = app.clarify(&ignoring).await;
     assert_eq!(answer["decision"], "ask");
@@ -201,7 +201,7 @@ async fn grpc_gives_the_same_soft_answer_as_rest() {
         .expect("a soft norm created over gRPC");
     let mut clarifier = ClarifierClient::new(channel);
     for scene in [tray(true, 1), tray(true, 2), tray(true, 0)] {
-        let body = hand_me_the_mug(scene);
+        let body = get_me_the_mug(scene);
         let rest = app.clarify(&body).await;
         let grpc = as_rest_json(clarifier.clarify(clarify_request(&body)).await.unwrap().into_inner());
         assert_eq!(grpc, rest);

@@ -74,7 +74,7 @@ async fn an_objects_names_are_nouns_for_it() {
     let mut request = said("Hand me the coffee cup.");
     request["scene"]["objects"][4]["names"] = json!(["Coffee Cup", "drink"]);
     let answer = app.clarify(&request).await;
-    assert_eq!(answer["goal"], "did(self,get(object5))", "{answer}");
+    assert_eq!(answer["goal"], "did(self,give(object5,human))", "{answer}");
     request["scene"]["objects"][4]["names"] = json!(["coffee-cup!"]);
     assert_problem(
         app.post("/v1/clarify", &request).await,

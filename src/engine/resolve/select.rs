@@ -84,7 +84,9 @@ impl Reference {
             | Reference::Described { .. }
             | Reference::Spoken { .. }
             | Reference::Pronoun { .. }
-            | Reference::Nothing { .. } => false,
+            | Reference::Nothing { .. }
+            | Reference::Implied { .. }
+            | Reference::Speaker(_) => false,
         }
     }
 
@@ -101,6 +103,22 @@ impl Reference {
                     .collect(),
             ),
             Reference::Pronoun { .. } | Reference::Nothing { .. } => Selected::default(),
+            Reference::Speaker(id) => match scene.index_of(id) {
+                Some(i) => Selected::of(vec![i]),
+                None => Selected {
+                    objects: Vec::new(),
+                    untold: Some("I do not know where you are.".to_owned()),
+                },
+            },
+            Reference::Implied {
+                param, facts, untold, ..
+            } => {
+                let objects = super::unsaid::meeting(scene, param, facts, expired)?;
+                Selected {
+                    untold: objects.is_empty().then(|| untold.clone()),
+                    objects,
+                }
+            }
             Reference::Narrowed { base, by, keep, .. } => {
                 let (base, by) = (base.select(scene, expired)?, by.select(scene, expired)?);
                 let objects = match keep {

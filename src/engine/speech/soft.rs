@@ -72,7 +72,7 @@ pub(super) fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<S
     // "Bob is a child", not "Bob is role child".
     if let Some(predicate) = person_predicate(fact).filter(|_| !me) {
         describer.argument_into(&fact.args()[0], &mut words);
-        words.push_str(" is ");
+        words.push_str(describer.copula(&fact.args()[0]));
         words.push_str(&predicate);
         return Some(words);
     }
@@ -89,7 +89,7 @@ pub(super) fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<S
         }
         [subject] => {
             describer.argument_into(subject, &mut words);
-            words.push_str(" is ");
+            words.push_str(describer.copula(subject));
             spoken_onto(functor, &mut words);
         }
         [subject, value] if describer.has_attribute(subject_id, functor) => {
@@ -102,7 +102,7 @@ pub(super) fn fact_words(fact: &Term, describer: &mut Describer<'_>) -> Option<S
         }
         [subject, other] => {
             describer.argument_into(subject, &mut words);
-            words.push_str(" is ");
+            words.push_str(describer.copula(subject));
             spoken_onto(functor, &mut words);
             words.push(' ');
             describer.argument_into(other, &mut words);

@@ -22,6 +22,7 @@ use DecisionKind::{Ask, Assume, Comply, Confirm, Explain, NotUnderstood, Refuse,
 mod decisions;
 mod feasibility;
 mod fixtures;
+mod household;
 mod norms;
 mod number;
 mod number_props;

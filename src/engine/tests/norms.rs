@@ -281,22 +281,22 @@ fn a_conditional_norm_is_never_spoken_as_absolute() {
         (
             Some("never hand knives to children"),
             Style::Diarc,
-            "I cannot get the knife because never hand knives to children.",
+            "I cannot give the knife to you because never hand knives to children.",
         ),
         (
             Some("never hand knives to children!"),
             Style::Natural,
-            "I won't get the knife: never hand knives to children.",
+            "I won't give the knife to you: never hand knives to children.",
         ),
         (
             None,
             Style::Diarc,
-            "I cannot get the knife because getting the knife is forbidden for a child.",
+            "I cannot give the knife to you because getting the knife is forbidden for a child.",
         ),
         (
             None,
             Style::Natural,
-            "I won't get the knife: getting the knife is not allowed for a child.",
+            "I won't give the knife to you: getting the knife is not allowed for a child.",
         ),
     ] {
         let d = run(

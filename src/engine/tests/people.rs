@@ -1,24 +1,16 @@
 //! People in a scene: referents by name, role, "me" and id; never objects to handle; a norm on
-//! a recipient's role holds however the recipient is named. A curator's `give(X,P)` (its method
-//! declares `person(P)`) stands for the household verbs to come.
+//! a recipient's role holds however the recipient is named, by the default `give(X,P)` (its
+//! method declares `person(P)`).
 
 use std::collections::BTreeSet;
 
 use super::fixtures::{fa, norms, request, when};
 use super::*;
-use crate::engine::action::ActionInput;
 use crate::engine::input::RequestLimits;
 use crate::engine::scene::{AgentInput, ObjectInput, PersonInput, SceneInput};
 
-const GIVE: &str = r#"{"parameters": ["X", "P"], "joiner": "to", "words": ["give", "pass"], "joiners": ["to"],
-  "methods": [{"steps": ["get(X)", "itself"], "reach": ["X", "P"], "preconditions": ["person(P)"],
-               "adds": ["holding(P,X)"], "removes": ["holding(self,X)"]}]}"#;
-
 fn library() -> Library {
-    let mut library = Library::default_library();
-    let give: ActionInput = serde_json::from_str(GIVE).unwrap();
-    library.insert(give.validate("give").unwrap()).unwrap();
-    library
+    Library::default_library()
 }
 
 fn thing(id: &str, kind: &str, y: f64) -> ObjectInput {
@@ -139,12 +131,34 @@ fn a_person_is_named_by_name_role_and_me_and_spoken_by_name() {
                  you want me to point to the visitor?",
             ),
         ),
+        // A speaker the scene does not place is handed things all the same: they come for them.
         (
             "Give the cup to me.",
             "human",
-            Unresolved,
+            Comply,
+            Some("did(self,give(cup1,human))"),
+            Some("Okay."),
+        ),
+        (
+            "Bring me the cup.",
+            "human",
+            Comply,
+            Some("did(self,give(cup1,human))"),
             None,
-            Some("I do not know what you mean by me."),
+        ),
+        (
+            "Hand me the cup.",
+            "bob",
+            Comply,
+            Some("did(self,give(cup1,bob))"),
+            None,
+        ),
+        (
+            "Get me.",
+            "human",
+            Refuse,
+            None,
+            Some("I cannot get you because you are a person, not an object to handle."),
         ),
     ] {
         let d = decide(&said(text, speaker), &scene);
@@ -168,6 +182,11 @@ fn a_norm_on_the_recipients_role_holds_however_the_recipient_is_named() {
     ] {
         let d = decide(&said(text, speaker), &scene);
         assert_eq!(d.kind, Refuse, "{text} ({speaker}): {}", d.utterance);
+        // Spoken to Bob, Bob is "you".
+        let refused = match speaker {
+            "bob" => refused.replace("to Bob", "to you").replace("Bob is", "you are"),
+            _ => refused.to_owned(),
+        };
         assert_eq!(d.utterance, refused, "{text}");
         assert_eq!(d.interpretations[0].outcome.reasons[0].kind(), "forbidden_action");
     }
@@ -382,7 +401,8 @@ proptest! {
                     i.action
                 );
             }
-            if verb == "give" && !people.contains(args[1].as_str()) {
+            // The speaker is a person whether or not the scene places them.
+            if verb == "give" && !people.contains(args[1].as_str()) && args[1] != SPEAKERS[case.speaker] {
                 prop_assert!(!i.feasible(), "{} gives to an object", i.action);
             }
         }

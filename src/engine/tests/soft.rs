@@ -68,9 +68,9 @@ fn in_serving(request: Request) -> Request {
     with_context(request, "serving")
 }
 
-fn hand_me_the_mug() -> Request {
+fn get_me_the_mug() -> Request {
     in_serving(request(Directive::Words {
-        text: "Hand me the mug.".into(),
+        text: "Get me the mug.".into(),
     }))
 }
 
@@ -109,7 +109,7 @@ fn serving_and_tidying() {
             "serving: the clean mug is assumed, the dirty one explained",
             clean_and_dirty(),
             norms(&[serving()]),
-            hand_me_the_mug(),
+            get_me_the_mug(),
             expect(
                 Assume,
                 Some("did(self,get(mug1))"),
@@ -134,7 +134,7 @@ fn serving_and_tidying() {
                 mug("mug3", "clean", "red", 0.2),
             ]),
             norms(&[serving()]),
-            hand_me_the_mug(),
+            get_me_the_mug(),
             expect(
                 Ask,
                 None,
@@ -146,7 +146,7 @@ fn serving_and_tidying() {
             "serving: only a dirty mug: complied with, saying so",
             tray(vec![mug("mug2", "dirty", "green", -0.1)]),
             norms(&[serving()]),
-            hand_me_the_mug(),
+            get_me_the_mug(),
             expect(Comply, Some("did(self,get(mug2))"), "Okay, although the mug is dirty.")
                 .act("acknowledge(self,mean(human,did(self,get(mug2))))"),
         ),
@@ -154,14 +154,14 @@ fn serving_and_tidying() {
             "outside the serving context the norm is not in force: today's question",
             clean_and_dirty(),
             norms(&[serving()]),
-            with_context(hand_me_the_mug(), "default"),
+            with_context(get_me_the_mug(), "default"),
             expect(Ask, None, WHICH_MUG),
         ),
         case(
             "soft_norms: ignore gives today's answer",
             clean_and_dirty(),
             norms(&[serving()]),
-            with_options(hand_me_the_mug(), |o| o.soft_norms = SoftNorms::Ignore),
+            with_options(get_me_the_mug(), |o| o.soft_norms = SoftNorms::Ignore),
             expect(Ask, None, WHICH_MUG)
             .interps(vec![
                 interp("did(self,get(mug1))", "the clean mug", vec![], &["get(mug1)"]),
@@ -172,14 +172,14 @@ fn serving_and_tidying() {
             "the reflexive strategy ignores soft norms as it ignores all norms",
             clean_and_dirty(),
             norms(&[serving()]),
-            reflexive(hand_me_the_mug()),
+            reflexive(get_me_the_mug()),
             expect(Ask, None, WHICH_MUG),
         ),
         case(
             "serving, confirming: the clean mug is asked about, the dirty one explained",
             clean_and_dirty(),
             norms(&[serving()]),
-            confirming(hand_me_the_mug()),
+            confirming(get_me_the_mug()),
             expect(
                 Confirm,
                 None,

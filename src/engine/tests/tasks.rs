@@ -99,10 +99,18 @@ fn the_constructions_that_make_steps() {
             DecisionKind::Assume,
             "did(self,get(p1))",
         ),
-        // Needs are requests to bring.
-        ("I need the plate.", DecisionKind::Comply, "did(self,get(p1))"),
-        ("Can I have the plate?", DecisionKind::Comply, "did(self,get(p1))"),
-        ("I'd like the plate, please.", DecisionKind::Comply, "did(self,get(p1))"),
+        // Needs are requests to bring it to the speaker.
+        ("I need the plate.", DecisionKind::Comply, "did(self,give(p1,human))"),
+        (
+            "Can I have the plate?",
+            DecisionKind::Comply,
+            "did(self,give(p1,human))",
+        ),
+        (
+            "I'd like the plate, please.",
+            DecisionKind::Comply,
+            "did(self,give(p1,human))",
+        ),
     ];
     for (text, kind, expected) in cases {
         let d = decide(text, &none());

@@ -69,7 +69,7 @@ fn the_constructions_the_grammar_takes() {
         ("Get the mug, please.", &lab, "get", &[&["object5"]]),
         ("Please pick up the mug.", &lab, "get", &[&["object5"]]),
         ("Pick the mug up.", &lab, "get", &[&["object5"]]),
-        ("Hand me the mug.", &lab, "get", &[&["object5"]]),
+        ("Hand me the mug.", &lab, "give", &[&["object5"]]),
         ("Get the green one.", &lab, "get", &[&["object2"]]),
         ("Get a notebook.", &lab, "get", &[&["object1", "object2"]]),
         ("Get the mug for reheating.", &lab, "get", &[&["object5"]]),

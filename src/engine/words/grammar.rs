@@ -314,16 +314,28 @@ fn clause(
     if words.iter().any(|w| w == "then") {
         return unclear(Unclear::Unplaced, said(&words));
     }
-    let (verb, arity, joiners, mut rest) = if needed {
+    let (verb, arity, joiners, mut rest, leaves) = if needed {
         match lexicon.verbs.iter().find(|p| p.words == ["bring"]) {
-            Some(phrase) => (phrase.verb.clone(), phrase.arity, phrase.joiners.clone(), words.clone()),
-            None => ("bring".to_owned(), 1, Vec::new(), words.clone()),
+            Some(phrase) => (
+                phrase.verb.clone(),
+                phrase.arity,
+                phrase.joiners.clone(),
+                words.clone(),
+                phrase.leaves_unsaid,
+            ),
+            None => ("bring".to_owned(), 1, Vec::new(), words.clone(), false),
         }
     } else {
         match verb_at(&words, 0, lexicon) {
             Some((phrase, taken)) => {
                 let rest = split_particle(&words[taken..], phrase);
-                (phrase.verb.clone(), phrase.arity, phrase.joiners.clone(), rest)
+                (
+                    phrase.verb.clone(),
+                    phrase.arity,
+                    phrase.joiners.clone(),
+                    rest,
+                    phrase.leaves_unsaid,
+                )
             }
             None => {
                 // An imperative of a verb no verb's word names: the unknown verb it names, as
@@ -336,7 +348,7 @@ fn clause(
                 if !(opens_reference && !function_word && verb_name(&words[0]).is_ok()) {
                     return unclear(Unclear::Unplaced, said(&words));
                 }
-                (words[0].clone(), 1, Vec::new(), words[1..].to_vec())
+                (words[0].clone(), 1, Vec::new(), words[1..].to_vec(), false)
             }
         }
     };
@@ -420,6 +432,8 @@ fn clause(
                 said_joiner = Some(rest[i].clone());
                 vec![Cow::Borrowed(&rest[..i]), without_commas(&rest[i + 1..])]
             }
+            // One argument of a verb that may leave the rest unsaid ("Heat up the soup.").
+            None if leaves && at.is_empty() => vec![Cow::Borrowed(&rest[..])],
             // Two arguments and no joiner between them: the words do not say which is which.
             _ => return unclear(Unclear::Unplaced, said(&words)),
         }
@@ -449,7 +463,7 @@ fn clause(
         act,
         verb,
         steps,
-        shares: arity.saturating_sub(1),
+        shares: spans.len().saturating_sub(1),
         joiner: said_joiner,
         purposes,
         ignored,

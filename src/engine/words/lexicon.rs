@@ -28,8 +28,8 @@ pub struct Noun {
 /// The known words of one request: the scene's and the library's.
 pub struct Lexicon<'a> {
     scene: &'a Scene,
-    /// The speaker's id, when the speaker is a person of the scene: what "me" names.
-    pub speaker: Option<&'a str>,
+    /// The speaker's id: what "me" names, whether or not the scene holds them.
+    pub speaker: &'a str,
     pub verbs: &'a [VerbPhrase],
     /// Every phrase of the scene, made the first time a lookup needs more than one pass.
     index: OnceCell<Index<'a>>,
@@ -142,16 +142,16 @@ impl<'a> Lexicon<'a> {
     pub fn new(scene: &'a Scene, library: &'a Library, expired: &'a dyn Fn() -> bool) -> Lexicon<'a> {
         Lexicon {
             scene,
-            speaker: None,
+            speaker: crate::engine::scene::DEFAULT_SPEAKER,
             verbs: library.phrases(),
             index: OnceCell::new(),
             expired,
         }
     }
 
-    /// The lexicon, with "me" naming `speaker` when the speaker is a person of the scene.
+    /// The lexicon, with "me" naming `speaker`.
     pub fn spoken_by(mut self, speaker: &'a str) -> Lexicon<'a> {
-        self.speaker = self.scene.is_person(speaker).then_some(speaker);
+        self.speaker = speaker;
         self
     }
 

@@ -243,7 +243,7 @@ pub enum Understanding {
 pub struct Heard<'a> {
     /// Object ids, most salient first: what a pronoun names.
     pub focus: &'a [String],
-    /// The speaker's id: what "me" names, when the speaker is a person of the scene.
+    /// The speaker's id: what "me" names.
     pub speaker: &'a str,
 }
 
@@ -267,7 +267,7 @@ pub fn heard(focus: &[String]) -> Heard<'_> {
 
 /// Reads `text` against the objects of `scene` and the verbs of `library`; a pronoun is the
 /// first object of the focus (most salient first), and with no focus it matches nothing; "me"
-/// is the speaker when the speaker is one of the scene's people, and else matches nothing.
+/// is the speaker (their object when the scene holds them).
 /// `expired` is asked while the scene's words are gathered and while long references are read.
 ///
 /// Where a two-argument verb's words could be parted at more than one joiner ("Put the cup on

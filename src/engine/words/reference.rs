@@ -64,15 +64,9 @@ pub(super) fn reference_or_adjectives(words: &[String], lexicon: &Lexicon) -> Ph
 /// is said back ("pls" in "the mug pls").
 pub(super) fn reference(span: &[String], lexicon: &Lexicon) -> Phrase {
     let words = span.join(" ");
-    // "me" is the speaker, when the speaker is a person of the scene; else it names nothing.
+    // "me" is the speaker: their object when the scene holds them, else the speaker by id.
     if span == ["me"] {
-        let reference = match lexicon.speaker {
-            Some(id) => Reference::Id(id.to_owned()),
-            None => Reference::Nothing {
-                words: words.clone(),
-                unplaced: None,
-            },
-        };
+        let reference = Reference::Speaker(lexicon.speaker.to_owned());
         return Phrase { words, reference };
     }
     // "the mug or the cup": any one of them will do.

@@ -418,6 +418,9 @@ impl From<pb::Action> for ActionInput {
             distinct: a.distinct,
             words: a.words,
             joiners: a.joiners,
+            implied: (a.implied.into_iter())
+                .map(|(parameter, facts)| (parameter, facts.facts))
+                .collect(),
             methods: a
                 .methods
                 .into_iter()
@@ -444,6 +447,9 @@ impl From<ActionInput> for pb::Action {
             distinct: a.distinct,
             words: a.words,
             joiners: a.joiners,
+            implied: (a.implied.into_iter())
+                .map(|(parameter, facts)| (parameter, pb::ImpliedFacts { facts }))
+                .collect(),
             methods: a
                 .methods
                 .into_iter()

@@ -1,0 +1,251 @@
+//! The household verbs of the default library (give, heat, open, close, discard, clean, pour,
+//! cut, switchOn, switchOff): their words, effects and preconditions; arguments left unsaid
+//! (implied by facts, or the speaker as recipient); and the property that an implied argument
+//! never binds an object that does not meet its facts.
+
+use super::fixtures::{act, fa, norms, obj, request, run, scene, ty, when};
+use super::*;
+
+/// A kitchen within reach: soup, a metal can, a microwave and a stove (both heaters), a
+/// knife, bread, a cup, a closed fridge, a dirty plate.
+fn kitchen() -> Scene {
+    kitchen_with(&["closed(fridge1)", "dirty(plate1)"], &["microwave", "stove"])
+}
+
+/// The kitchen with `facts`, and a heater of each of `heaters`' types.
+fn kitchen_with(facts: &[&str], heaters: &[&str]) -> Scene {
+    let mut objects = vec![
+        obj("soup1", "soup", &[], &[], [0.5, 0.0, 0.8], None),
+        obj("can1", "can", &["metal"], &[], [0.5, 0.2, 0.8], None),
+        obj("knife1", "knife", &[], &[], [0.4, 0.1, 0.8], None),
+        obj("bread1", "bread", &[], &[], [0.4, -0.1, 0.8], None),
+        obj("cup1", "cup", &[], &[], [0.3, -0.2, 0.8], None),
+        obj("fridge1", "fridge", &[], &[], [0.6, 0.0, 0.8], None),
+        obj("plate1", "plate", &[], &[], [0.3, 0.2, 0.8], None),
+    ];
+    for (i, kind) in heaters.iter().enumerate() {
+        let y = -0.3 + 0.15 * i as f64;
+        objects.push(obj(&format!("{kind}1"), kind, &["heater"], &[], [0.6, y, 0.8], None));
+    }
+    scene(objects, facts)
+}
+
+fn words(text: &str) -> Request {
+    request(Directive::Words { text: text.into() })
+}
+
+/// Cans must not go in the microwave.
+fn no_cans_in_the_microwave() -> CompiledNorms {
+    norms(&[when(fa("heat(X,Y)"), &["metal(X)", "microwave(Y)"])])
+}
+
+#[test]
+fn each_household_verb_is_named_by_its_words_and_does_what_it_says() {
+    let kitchen = kitchen();
+    // (words, decision, goal, the verb's own step's effects that hold after it)
+    let cases: &[(&str, DecisionKind, &str)] = &[
+        ("Give the cup to me.", Comply, "did(self,give(cup1,human))"),
+        ("Hand me the cup.", Comply, "did(self,give(cup1,human))"),
+        ("Pass me the cup.", Comply, "did(self,give(cup1,human))"),
+        ("Bring the cup.", Comply, "did(self,give(cup1,human))"),
+        ("Bring me the cup.", Comply, "did(self,give(cup1,human))"),
+        ("Heat the soup with the stove.", Comply, "did(self,heat(soup1,stove1))"),
+        (
+            "Warm up the soup in the microwave.",
+            Comply,
+            "did(self,heat(soup1,microwave1))",
+        ),
+        ("Open the fridge.", Comply, "did(self,open(fridge1))"),
+        ("Throw away the cup.", Comply, "did(self,discard(cup1))"),
+        ("Throw the cup away.", Comply, "did(self,discard(cup1))"),
+        ("Get rid of the cup.", Comply, "did(self,discard(cup1))"),
+        ("Dispose of the cup.", Comply, "did(self,discard(cup1))"),
+        ("Wash the plate.", Comply, "did(self,clean(plate1))"),
+        ("Rinse the cup.", Comply, "did(self,clean(cup1))"),
+        ("Pour the soup into the cup.", Comply, "did(self,pour(soup1,cup1))"),
+        ("Slice the bread.", Comply, "did(self,cut(bread1,knife1))"),
+        ("Cut the bread with the knife.", Comply, "did(self,cut(bread1,knife1))"),
+        ("Turn on the stove.", Comply, "did(self,switchOn(stove1))"),
+        ("Switch the stove off.", Comply, "did(self,switchOff(stove1))"),
+    ];
+    for (text, kind, goal) in cases {
+        let d = run(&words(text), &kitchen, &norms(&[]));
+        assert_eq!(d.kind, *kind, "{text}: {}", d.utterance);
+        assert_eq!(d.goal.as_ref().map(Term::to_string).as_deref(), Some(*goal), "{text}");
+    }
+    // Plans: the verbs that handle an object get it first.
+    let d = run(&words("Give the cup to me."), &kitchen, &norms(&[]));
+    let plan: Vec<String> = d.interpretations[0].outcome.plan.iter().map(Term::to_string).collect();
+    assert_eq!(plan, ["get(cup1)", "give(cup1,human)"]);
+    let d = run(&words("Slice the bread."), &kitchen, &norms(&[]));
+    let plan: Vec<String> = d.interpretations[0].outcome.plan.iter().map(Term::to_string).collect();
+    assert_eq!(plan, ["get(knife1)", "cut(bread1,knife1)"]);
+}
+
+#[test]
+fn preconditions_and_effects_are_checked_like_any_verbs() {
+    let kitchen = kitchen();
+    // Closing needs it open; it is closed.
+    let d = run(&words("Close the fridge."), &kitchen, &norms(&[]));
+    assert_eq!(d.kind, Refuse, "{}", d.utterance);
+    assert_eq!(d.utterance, "I cannot close the fridge because the fridge is not open.");
+    // Opening needs it closed: the cup is not said to be.
+    let d = run(&words("Open the cup."), &kitchen, &norms(&[]));
+    assert_eq!(d.utterance, "I cannot open the cup because the cup is not closed.");
+    // A state the effects enter is judged: a clean plate, an open fridge, a discarded cup.
+    for (text, state, kind, utterance) in [
+        (
+            "Open the fridge.",
+            "open(X)",
+            "fridge(X)",
+            "I cannot open the fridge because the fridge being open is forbidden.",
+        ),
+        (
+            "Throw away the cup.",
+            "discarded(X)",
+            "cup(X)",
+            "I cannot discard the cup because the cup being discarded is forbidden.",
+        ),
+        (
+            "Turn on the stove.",
+            "powered(X)",
+            "stove(X)",
+            "I cannot switch on the stove because the stove being powered is forbidden.",
+        ),
+        (
+            "Heat the soup on the stove.",
+            "hot(X)",
+            "soup(X)",
+            "I cannot heat the soup on the stove because the soup being hot is forbidden.",
+        ),
+    ] {
+        let norm = when(super::fixtures::fs(state), &[kind]);
+        let d = run(&words(text), &kitchen, &norms(&[norm]));
+        assert_eq!(d.kind, Refuse, "{text}: {}", d.utterance);
+        assert_eq!(d.utterance, utterance, "{text}");
+    }
+    // A said instrument must be one: the bread is no heater, the cup no knife.
+    let d = run(&words("Heat the soup with the bread."), &kitchen, &norms(&[]));
+    assert_eq!(
+        d.utterance,
+        "I cannot heat the soup with the bread because the bread is not heater."
+    );
+    let d = run(&words("Cut the bread with the cup."), &kitchen, &norms(&[]));
+    assert_eq!(d.kind, Refuse, "{}", d.utterance);
+    // A recipient must be a person: the cup is not.
+    let d = run(&words("Give the soup to the cup."), &kitchen, &norms(&[]));
+    assert_eq!(
+        d.utterance,
+        "I cannot give the soup to the cup because the cup is not a person."
+    );
+}
+
+#[test]
+fn an_implied_argument_ranges_over_what_meets_its_facts() {
+    // Several: asked, as any ambiguity is.
+    let d = run(&words("Heat up the soup."), &kitchen(), &norms(&[]));
+    assert_eq!(d.kind, Ask, "{}", d.utterance);
+    assert_eq!(
+        d.utterance,
+        "Do you mean that you want me to heat the soup with the microwave or that you want me to heat the soup with the stove?"
+    );
+    // One: done with it.
+    let stove = kitchen_with(&[], &["stove"]);
+    let d = run(&words("Heat up the soup."), &stove, &norms(&[]));
+    assert_eq!(d.kind, Comply, "{}", d.utterance);
+    assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(soup1,stove1))");
+    // None: unresolved, saying what is missing.
+    let none = kitchen_with(&[], &[]);
+    for (text, utterance) in [
+        ("Heat up the soup.", "I do not see anything to heat the soup with."),
+        ("Warm the cup.", "I do not see anything to heat the cup with."),
+    ] {
+        let d = run(&words(text), &none, &norms(&[]));
+        assert_eq!(d.kind, Unresolved, "{text}: {}", d.utterance);
+        assert_eq!(d.utterance, utterance);
+    }
+    let no_knife = scene(vec![obj("bread1", "bread", &[], &[], [0.4, 0.0, 0.8], None)], &[]);
+    let d = run(&words("Cut the bread."), &no_knife, &norms(&[]));
+    assert_eq!(d.utterance, "I do not see anything to cut the bread with.");
+    // A fact of the scene meets it as a property does.
+    let by_fact = scene(
+        vec![
+            obj("soup1", "soup", &[], &[], [0.5, 0.0, 0.8], None),
+            obj("hob1", "hob", &[], &[], [0.6, 0.0, 0.8], None),
+        ],
+        &["heater(hob1)"],
+    );
+    let d = run(&words("Heat up the soup."), &by_fact, &norms(&[]));
+    assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(soup1,hob1))");
+    // Structured: an action given fewer arguments than its verb has, the rest implied.
+    let d = run(&act("heat", vec![ty("soup")]), &stove, &norms(&[]));
+    assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(soup1,stove1))");
+    // A verb that implies nothing still needs every argument.
+    let d = run(&act("put", vec![ty("soup")]), &stove, &norms(&[]));
+    assert_eq!(d.kind, Refuse, "{}", d.utterance);
+    assert_eq!(d.interpretations[0].outcome.reasons[0].kind(), "unknown_action");
+}
+
+/// The paper's plastic vase, in the kitchen: the norm picks the stove for the can.
+#[test]
+fn a_norm_picks_the_implied_argument_as_it_picks_an_object() {
+    let d = run(&words("Heat up the can."), &kitchen(), &no_cans_in_the_microwave());
+    assert_eq!(d.kind, Assume, "{}", d.utterance);
+    assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(can1,stove1))");
+    assert_eq!(
+        d.utterance,
+        "I am assuming you want me to heat the can with the stove. I cannot heat the can with the microwave because heating the can with the microwave is forbidden when the can is metal."
+    );
+    // The soup is not metal: both are asked about.
+    let d = run(&words("Heat up the soup."), &kitchen(), &no_cans_in_the_microwave());
+    assert_eq!(d.kind, Ask, "{}", d.utterance);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Whatever the heaters and which of them the scene says are heaters, an implied argument
+    /// binds only an object that meets its facts, and no reading the norm forbids is acted on.
+    #[test]
+    fn an_implied_argument_binds_only_what_meets_its_facts(
+        kinds in proptest::collection::vec(0usize..4, 0..6),
+        heater in proptest::collection::vec(any::<bool>(), 6),
+        by_fact in proptest::collection::vec(any::<bool>(), 6),
+        text in 0usize..4,
+    ) {
+        const KINDS: [&str; 4] = ["microwave", "stove", "oven", "shelf"];
+        let mut objects = vec![
+            obj("soup1", "soup", &[], &[], [0.5, 0.0, 0.8], None),
+            obj("can1", "can", &["metal"], &[], [0.5, 0.2, 0.8], None),
+        ];
+        let mut facts = Vec::new();
+        let mut heaters = Vec::new();
+        for (i, k) in kinds.iter().enumerate() {
+            let id = format!("{}{i}", KINDS[*k]);
+            let props: &[&str] = if heater[i] && !by_fact[i] { &["heater"] } else { &[] };
+            if heater[i] && by_fact[i] {
+                facts.push(format!("heater({id})"));
+            }
+            if heater[i] {
+                heaters.push(id.clone());
+            }
+            objects.push(obj(&id, KINDS[*k], props, &[], [0.6, -0.3 + 0.1 * i as f64, 0.8], None));
+        }
+        let facts: Vec<&str> = facts.iter().map(String::as_str).collect();
+        let scene = scene(objects, &facts);
+        let said = ["Heat up the soup.", "Heat up the can.", "Warm the can.", "Heat the can."][text];
+        let d = run(&words(said), &scene, &no_cans_in_the_microwave());
+        for i in &d.interpretations {
+            let heat = &i.action.args()[1];
+            let with = heat.args()[1].to_string();
+            prop_assert!(heaters.contains(&with), "{} binds {with}, not a heater", i.action);
+        }
+        if heaters.is_empty() {
+            prop_assert_eq!(d.kind, Unresolved);
+        }
+        if let Some(goal) = &d.goal {
+            let chosen = d.interpretations.iter().find(|i| &i.action == goal).unwrap();
+            prop_assert!(chosen.permissible() && chosen.feasible(), "{} acted on: {}", goal, d.utterance);
+        }
+    }
+}
