@@ -88,6 +88,7 @@ fn answer() -> DecisionDto {
         library_version: 1,
         text: None,
         parse: None,
+        alternative: None,
     }
 }
 

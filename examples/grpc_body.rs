@@ -348,6 +348,7 @@ fn options(value: &Value, at: &str) -> Result<pb::Options> {
         "deadline_ms",
         "confirm_above_ratio",
         "soft_norms",
+        "alternatives",
     ];
     let f = Fields::of(value, at, &known)?;
     Ok(pb::Options {
@@ -359,6 +360,7 @@ fn options(value: &Value, at: &str) -> Result<pb::Options> {
         deadline_ms: f.count("deadline_ms")?,
         confirm_above_ratio: f.number("confirm_above_ratio")?,
         soft_norms: f.string("soft_norms")?,
+        alternatives: f.string("alternatives")?,
     })
 }
 

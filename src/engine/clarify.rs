@@ -7,8 +7,6 @@
 //! callback), or offer, assume, confirm or obey a reading that is impermissible or infeasible
 //! under the moral strategy.
 
-use std::cmp::Reverse;
-
 use rayon::prelude::*;
 
 use super::action::Library;
@@ -19,7 +17,7 @@ use super::describe::Describer;
 use super::norms::{CompiledNorms, Scope};
 use super::request::{Answer, Directive, Request, SinglePermissible, SoftNorms, Strategy};
 use super::resolve::Reference;
-use super::resolve::{Narrowed, Slot, Template, combinations, slots};
+use super::resolve::{Narrowed, Template, combinations, slots};
 use super::scene::Scene;
 use super::simulate::{Env, Outcome, simulate};
 use super::speech;
@@ -487,9 +485,27 @@ fn decide_directive(
             SinglePermissible::Confirm => Plan::Confirm { chosen, others },
         };
     }
-    // "yes" confirms the reading a question to confirm named, decided afresh; "no" to it, or
-    // either to anything else, leaves nothing to do.
+    let search = alternative::Search {
+        request,
+        scene,
+        norms,
+        library,
+        relation: relation.as_ref(),
+        expired,
+    };
+    let mut found = (alternative::wanted(&options, &plan, limits.is_some()))
+        .then(|| search.nearest(&template, &readings))
+        .flatten();
+    // "yes" confirms the reading a question to confirm named, or takes the alternative offered
+    // (one that became unacceptable is not found again: the refusal stands), decided afresh;
+    // "no" to it, or either to anything else, leaves nothing to do.
+    if let (Some(Answer::Yes), Some(alternative)) = (answer, found.take_if(|_| matches!(answer, Some(Answer::Yes)))) {
+        readings = vec![alternative];
+        plan = decide(options, &readings, &slots, false);
+        return Ok(finish(plan, readings, limits, &mut describer));
+    }
     match (answer, &plan) {
+        (Some(Answer::Yes), Plan::Refuse(_) | Plan::Explain(_)) if options.offers_alternatives() => {}
         (Some(Answer::Yes), Plan::Confirm { chosen, .. }) => {
             readings = vec![readings.swap_remove(*chosen)];
             plan = decide(options, &readings, &slots, false);
@@ -533,51 +549,9 @@ fn decide_directive(
         readings = vec![readings.swap_remove(picked)];
         plan = decide(options, &readings, &slots, false);
     }
-    Ok(finish(plan, readings, limits, &mut describer))
-}
-
-/// Orders each slot's candidates as the contract orders readings (by score, highest first, then
-/// by their words) when the readings far outnumber the candidates, and says whether it did. A
-/// hint, not the order: the readings are sorted all the same. But when the verb's arguments are
-/// the slots in order and every reading scores alike, their combinations then come out in the
-/// contract's order already, and sorting 10,000 readings is one pass that finds them in order,
-/// with nothing to move. Describing the candidates is work: past the deadline it is given up,
-/// and the slots are left as they were.
-fn presort(slots: &mut [Slot], describer: &mut Describer<'_>, expired: &(dyn Fn() -> bool + Sync)) -> bool {
-    // A group is described as its objects listed: not worth ordering ahead.
-    if slots.iter().any(|s| s.group) {
-        return false;
-    }
-    let candidates: usize = slots.iter().map(|s| s.candidates.len()).sum();
-    let readings = (slots.iter())
-        .try_fold(1usize, |n, s| n.checked_mul(s.candidates.len()))
-        .unwrap_or(usize::MAX);
-    if readings < PRESORT_FROM || candidates.saturating_mul(8) > readings {
-        return false;
-    }
-    let mut keyed: Vec<Vec<(Reverse<Score>, String)>> = Vec::with_capacity(slots.len());
-    for slot in slots.iter() {
-        let mut keys = Vec::with_capacity(slot.candidates.len());
-        for (n, (value, score)) in slot.candidates.iter().enumerate() {
-            if n % PRESORT_LOOK == PRESORT_LOOK - 1 && expired() {
-                return false;
-            }
-            keys.push(contract_key(*score, describer.argument(value)));
-        }
-        keyed.push(keys);
-    }
-    for (slot, keys) in slots.iter_mut().zip(keyed) {
-        let mut order: Vec<usize> = (0..keys.len()).collect();
-        order.sort_by(|&a, &b| keys[a].cmp(&keys[b]));
-        permute(&mut slot.candidates, order);
-    }
-    true
-}
-
-/// What the contract orders readings by before the action as written: score, highest first,
-/// then words.
-fn contract_key<W: Ord>(score: f64, words: W) -> (Reverse<Score>, W) {
-    (Reverse(Score(score)), words)
+    let mut decision = finish(plan, readings, limits, &mut describer);
+    alternative::offer(&mut decision, found, options.style, &mut describer);
+    Ok(decision)
 }
 
 /// Each reading's action and words, in the order chosen; `None` when the deadline passed first
@@ -680,13 +654,18 @@ fn render(
         norm_version,
         library_version: 0,
         parse: None,
+        alternative: None,
     }
 }
 
+mod alternative;
 mod pool;
+mod presort;
 mod said;
 #[cfg(test)]
 mod tests;
 
+pub use alternative::Alternatives;
 use pool::{parallel_batch, permute, simulate_apart};
+use presort::{contract_key, presort};
 use said::joined;

@@ -188,6 +188,8 @@ pub struct Decision {
     pub library_version: i64,
     /// What the human's words were understood as, when the directive came in words.
     pub parse: Option<Understood>,
+    /// After a refusal or an explanation, the nearest acceptable reading offered instead.
+    pub alternative: Option<Term>,
 }
 
 impl Drop for Decision {

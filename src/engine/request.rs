@@ -5,6 +5,7 @@
 //! JSON names it). Must not: resolve, simulate or decide; a `Request` that exists is valid
 //! against the scene it was built with.
 
+pub use super::clarify::Alternatives;
 use std::collections::BTreeMap;
 use std::time::Duration;
 
@@ -79,6 +80,8 @@ pub struct Options {
     /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
     pub confirm_above_ratio: Option<f64>,
     pub soft_norms: SoftNorms,
+    /// Whether a refusal offers the nearest acceptable reading; `None`: by the style.
+    pub alternatives: Option<Alternatives>,
 }
 
 impl Default for Options {
@@ -91,6 +94,7 @@ impl Default for Options {
             max_readings: DEFAULT_MAX_READINGS,
             confirm_above_ratio: None,
             soft_norms: SoftNorms::Rank,
+            alternatives: None,
         }
     }
 }
@@ -239,6 +243,7 @@ pub struct OptionsInput {
     pub deadline_ms: Option<u64>,
     pub confirm_above_ratio: Option<f64>,
     pub soft_norms: Option<SoftNorms>,
+    pub alternatives: Option<Alternatives>,
 }
 
 /// A whole clarify request as a client sent it, before anything is checked.
@@ -359,6 +364,7 @@ impl Options {
             max_readings: max_readings as usize,
             confirm_above_ratio: options.confirm_above_ratio,
             soft_norms: options.soft_norms.unwrap_or_default(),
+            alternatives: options.alternatives,
         };
         Ok((options, deadline))
     }

@@ -20,6 +20,7 @@ mod unsaid;
 pub(super) use narrowed::Narrowed;
 pub use number::{MAX_GROUP, Number, count_of, members, objects_of, plural, singulars};
 pub use select::Selected;
+pub(in crate::engine) use unsaid::meeting;
 
 /// What an adjective in words may say of an object.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

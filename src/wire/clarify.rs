@@ -8,7 +8,7 @@ use utoipa::ToSchema;
 pub use super::scene::{AgentBody, ObjectBody, PersonBody, SceneBody, ShapeBody};
 use crate::engine::decision::{BoundTo, Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
-    AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,
+    Alternatives, AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,
     StepArgumentInput, StepInput, Strategy,
 };
 use crate::engine::resolve::ReferenceInput;
@@ -222,6 +222,12 @@ pub struct OptionsBody {
     /// are kept) or `ignore` (soft norms are not checked: a control condition).
     #[serde(default)]
     pub soft_norms: Option<SoftNorms>,
+    /// `offer` (after a refusal or an explanation, the nearest acceptable reading is offered:
+    /// `alternative`, and a question ending the utterance) or `off`. Default: `offer` in the
+    /// natural style, `off` in the diarc style (the paper's words stay exact). Never under
+    /// the reflexive strategy.
+    #[serde(default)]
+    pub alternatives: Option<Alternatives>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -337,6 +343,7 @@ impl From<OptionsBody> for OptionsInput {
             deadline_ms: o.deadline_ms,
             confirm_above_ratio: o.confirm_above_ratio,
             soft_norms: o.soft_norms,
+            alternatives: o.alternatives,
         }
     }
 }
@@ -440,6 +447,12 @@ pub struct DecisionDto {
     /// or when an answer in words (`yes`, `no`) answered nothing it could.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub parse: Option<ParseDto>,
+    /// After a refusal or an explanation under the moral strategy, with `alternatives` on: the
+    /// nearest acceptable reading none of `interpretations` names (the same verb, one argument
+    /// another object of its type), asked about at the end of the utterance; "yes" to it
+    /// decides it afresh.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub alternative: Option<String>,
 }
 
 /// One reference in the human's words, and the objects it matches.
@@ -609,6 +622,7 @@ impl DecisionDto {
             library_version: decision.library_version,
             text,
             parse: decision.parse.as_ref().map(ParseDto::from),
+            alternative: decision.alternative.as_ref().map(Term::text),
         }
     }
 }

@@ -10,7 +10,7 @@ use utoipa::{PartialSchema, ToSchema};
 
 use crate::engine::decision::Style;
 use crate::engine::input::Spelled;
-use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
+use crate::engine::request::{Alternatives, SinglePermissible, SoftNorms, Strategy};
 
 /// A string that is one of the enum's words.
 fn words<T: Spelled>() -> RefOr<Schema> {
@@ -40,3 +40,4 @@ spelled_schema!(Strategy, "StrategyBody");
 spelled_schema!(SinglePermissible, "SinglePermissibleBody");
 spelled_schema!(Style, "StyleBody");
 spelled_schema!(SoftNorms, "SoftNormsBody");
+spelled_schema!(Alternatives, "AlternativesBody");

@@ -193,6 +193,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
             deadline_ms: o["deadline_ms"].as_u64(),
             confirm_above_ratio: o["confirm_above_ratio"].as_f64(),
             soft_norms: opt(&o["soft_norms"]),
+            alternatives: opt(&o["alternatives"]),
         }),
         speaker_roles: strings(&body["speaker_roles"]),
         answer: body.get("answer").map(|a| pb::Answer {

@@ -104,7 +104,12 @@ fn unsaid<'r>(
 
 /// The objects of the scene, in scene order, for which every one of `facts` holds with `param`
 /// bound to the object; `None` when the deadline passed on the way.
-pub(super) fn meeting(scene: &Scene, param: &Sym, facts: &[Term], expired: &dyn Fn() -> bool) -> Option<Vec<usize>> {
+pub(in crate::engine) fn meeting(
+    scene: &Scene,
+    param: &Sym,
+    facts: &[Term],
+    expired: &dyn Fn() -> bool,
+) -> Option<Vec<usize>> {
     // The facts are about `param` alone: bound, each is ground, and holds when stated.
     let stated: FxHashSet<Term> = scene.all_facts().into_iter().collect();
     let mut objects = Vec::new();

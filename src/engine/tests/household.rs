@@ -249,3 +249,86 @@ proptest! {
         }
     }
 }
+
+fn styled(text: &str, style: crate::engine::decision::Style) -> Request {
+    let mut r = words(text);
+    r.options.style = style;
+    r
+}
+
+/// After a refusal under the moral strategy, the nearest acceptable reading: offered in the
+/// natural style, off in the diarc style unless asked, never under the reflexive strategy;
+/// "yes" decides it afresh, and one that became forbidden meanwhile is refused.
+#[test]
+fn a_refusal_offers_the_nearest_acceptable_reading_instead() {
+    use crate::engine::decision::Style;
+    use crate::engine::request::{Alternatives, Answer};
+    let kitchen = kitchen();
+    let text = "Heat the can in the microwave.";
+    let d = run(&styled(text, Style::Natural), &kitchen, &no_cans_in_the_microwave());
+    assert_eq!(d.kind, Refuse, "{}", d.utterance);
+    assert_eq!(
+        d.alternative.as_ref().map(Term::to_string).as_deref(),
+        Some("did(self,heat(can1,stove1))")
+    );
+    assert_eq!(
+        d.utterance,
+        "I won't heat the can in the microwave: heating the can in the microwave is not allowed when the can is metal. \
+         Shall I heat the can in the stove instead?"
+    );
+    // The diarc style keeps the paper's words unless asked.
+    let d = run(&words(text), &kitchen, &no_cans_in_the_microwave());
+    assert_eq!(d.alternative, None);
+    assert!(!d.utterance.contains("instead"), "{}", d.utterance);
+    let mut asked = words(text);
+    asked.options.alternatives = Some(Alternatives::Offer);
+    let d = run(&asked, &kitchen, &no_cans_in_the_microwave());
+    assert!(
+        d.utterance
+            .ends_with(" Do you want me to heat the can in the stove instead?"),
+        "{}",
+        d.utterance
+    );
+    // Never under the reflexive strategy (which obeys), nor when switched off.
+    let mut off = styled(text, Style::Natural);
+    off.options.alternatives = Some(Alternatives::Off);
+    assert_eq!(run(&off, &kitchen, &no_cans_in_the_microwave()).alternative, None);
+    let mut reflexive = asked.clone();
+    reflexive.options.strategy = ClarifyStrategy::Reflexive;
+    assert_eq!(run(&reflexive, &kitchen, &no_cans_in_the_microwave()).alternative, None);
+    // "yes": the alternative, decided afresh.
+    let yes = Request {
+        answer: Some(Answer::Yes),
+        ..asked.clone()
+    };
+    let d = run(&yes, &kitchen, &no_cans_in_the_microwave());
+    assert_eq!(d.kind, Comply, "{}", d.utterance);
+    assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(can1,stove1))");
+    // Forbidden meanwhile: nothing is taken instead, the refusal stands.
+    let stricter = norms(&[
+        when(fa("heat(X,Y)"), &["metal(X)", "microwave(Y)"]),
+        when(fa("heat(X,Y)"), &["metal(X)", "stove(Y)"]),
+    ]);
+    let d = run(&yes, &kitchen, &stricter);
+    assert_eq!(d.kind, Refuse, "{}", d.utterance);
+    assert_eq!(d.alternative, None);
+    // None found: only one heater, forbidden.
+    let one = kitchen_with(&[], &["microwave"]);
+    let d = run(&styled(text, Style::Natural), &one, &no_cans_in_the_microwave());
+    assert_eq!((d.kind, d.alternative.clone()), (Refuse, None), "{}", d.utterance);
+    // The same verb only, one argument changed: the other mug, not a different act.
+    let mugs = scene(
+        vec![
+            obj("mug1", "mug", &["fragile"], &[], [0.5, 0.0, 0.8], None),
+            obj("mug2", "mug", &["red"], &[], [0.5, 0.2, 0.8], None),
+            obj("mug3", "mug", &["fragile", "blue"], &[], [0.5, -0.2, 0.8], None),
+        ],
+        &[],
+    );
+    let fragile = norms(&[when(fa("get(X)"), &["fragile(X)"])]);
+    let mut get = styled("Get the fragile mug.", Style::Natural);
+    get.options.alternatives = Some(Alternatives::Offer);
+    let d = run(&get, &mugs, &fragile);
+    assert_eq!(d.kind, Explain, "{}", d.utterance);
+    assert_eq!(d.alternative.as_ref().unwrap().to_string(), "did(self,get(mug2))");
+}

@@ -9,7 +9,7 @@ use super::pb;
 use crate::engine::action::{ActionInput, MethodInput};
 use crate::engine::decision::Style;
 use crate::engine::input::Spelled;
-use crate::engine::request::{SinglePermissible, SoftNorms, Strategy};
+use crate::engine::request::{Alternatives, SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
     AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
@@ -57,6 +57,7 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                     deadline_ms: o.deadline_ms,
                     confirm_above_ratio: o.confirm_above_ratio,
                     soft_norms: word::<SoftNorms>("/options/soft_norms", o.soft_norms)?,
+                    alternatives: word::<Alternatives>("/options/alternatives", o.alternatives)?,
                 })
             })
             .transpose()?;
@@ -253,6 +254,7 @@ impl From<DecisionDto> for pb::ClarifyResponse {
             norm_version: d.norm_version,
             library_version: d.library_version,
             text: d.text,
+            alternative: d.alternative,
             offered: d.offered,
             limits: d.limits.map(limits),
             parse: d.parse.map(|p| pb::Parse {
