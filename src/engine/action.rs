@@ -1,7 +1,8 @@
 //! The action library as data: each verb's parameters and methods (needs, steps, effects).
 //!
 //! Owns: the definitions, their validation (field-relative errors, no unknown variables, no
-//! recursion through the library), and the default library (get, pointTo, destroy, steal, put).
+//! recursion through the library); the default verbs are in `defaults`, what a directive may
+//! leave unsaid in `implied`.
 //! Must not: simulate anything (`simulate` interprets these definitions) or read the database.
 
 use std::collections::{BTreeMap, HashSet};
@@ -17,7 +18,6 @@ mod implied;
 mod words;
 
 pub use defaults::DEFAULT_VERBS;
-
 pub use implied::Unsaid;
 use implied::implied_of;
 pub use words::relation_of;

@@ -418,13 +418,14 @@ fn decide_directive(
         soft: options.strategy == Strategy::Moral && options.soft_norms == SoftNorms::Rank,
     };
     let total = readings.len();
+    let said = match &template {
+        Template::Task(shape) => shape.said_relations(),
+        _ => relation.iter().cloned().collect(),
+    };
+    // Kept past the simulation: an alternative after a refusal is simulated in the same world.
+    let env = Env::new(scene, norms, library, scope, &base, &said, expired);
+    let world = World::new(&base);
     let simulated = {
-        let said = match &template {
-            Template::Task(shape) => shape.said_relations(),
-            _ => relation.iter().cloned().collect(),
-        };
-        let env = Env::new(scene, norms, library, scope, &base, &said, expired);
-        let world = World::new(&base);
         let simulate_one = |reading: &mut Interpretation| {
             (reading.outcome, reading.action) = match &template {
                 Template::Task(shape) => shape.simulate(&env, &world, &reading.action, &reading.values),
@@ -445,11 +446,6 @@ fn decide_directive(
             simulated
         }
     };
-    if base.len() >= LARGE_BASE {
-        // Freeing a large fact base takes milliseconds: done on the pool while the answer is
-        // worded, not before it.
-        rayon::spawn(move || drop(base));
-    }
     // Readings the deadline cut short mid-plan are not simulated: only those finished before
     // the first such one are kept, in the contract's order. A lone reading cut short is kept,
     // infeasible (`unfinished`), so that the robot can say why it will not act.
@@ -486,20 +482,26 @@ fn decide_directive(
         };
     }
     let search = alternative::Search {
-        request,
-        scene,
-        norms,
-        library,
+        env: &env,
+        world: &world,
         relation: relation.as_ref(),
-        expired,
+        most: options.max_readings,
     };
     let mut found = (alternative::wanted(&options, &plan, limits.is_some()))
         .then(|| search.nearest(&template, &readings))
         .flatten();
+    drop((env, world));
+    if base.len() >= LARGE_BASE {
+        // Freeing a large fact base takes milliseconds: done on the pool while the answer is
+        // worded, not before it.
+        rayon::spawn(move || drop(base));
+    }
     // "yes" confirms the reading a question to confirm named, or takes the alternative offered
     // (one that became unacceptable is not found again: the refusal stands), decided afresh;
     // "no" to it, or either to anything else, leaves nothing to do.
-    if let (Some(Answer::Yes), Some(alternative)) = (answer, found.take_if(|_| matches!(answer, Some(Answer::Yes)))) {
+    if matches!(answer, Some(Answer::Yes))
+        && let Some(alternative) = found.take()
+    {
         readings = vec![alternative];
         plan = decide(options, &readings, &slots, false);
         return Ok(finish(plan, readings, limits, &mut describer));

@@ -349,9 +349,7 @@ impl Run<'_, '_> {
         let person_of = |param: &Sym| match bindings.get(param) {
             Some(Term::Const(id)) => match scene.object(id) {
                 Some(o) => (o.kind == PERSON).then_some(&o.id),
-                None => world
-                    .holds(&Term::compound(PERSON, vec![Term::Const(id.clone())]))
-                    .then_some(id),
+                None => known_person(world, &Term::Const(id.clone())).then_some(id),
             },
             _ => None,
         };
@@ -375,7 +373,7 @@ impl Run<'_, '_> {
             let Some(object) = object_of(param) else {
                 // A person the scene knows by facts alone (the speaker, whom it does not place)
                 // comes for what they are handed: there is nowhere to reach for.
-                if !self.world.holds(&Term::compound(PERSON, vec![target.clone()])) {
+                if !known_person(&self.world, target) {
                     self.push(Reason::infeasible(Cause::UnknownObject { object: target.clone() }));
                 }
                 continue;
@@ -426,6 +424,12 @@ impl Run<'_, '_> {
             }
         }
     }
+}
+
+/// Whether `who` is a person by the world's facts (`person(who)`): one of the scene's people,
+/// or a speaker it does not place.
+fn known_person(world: &World<'_>, who: &Term) -> bool {
+    world.holds(&Term::compound(PERSON, vec![who.clone()]))
 }
 
 /// Simulates doing `action` (ground) in a private copy of `world`, in DIARC's order: (1) the

@@ -256,7 +256,6 @@ pub fn gerund(verb: &str) -> String {
     format!("{ing}{tail}")
 }
 
-/// "notebook" → "notebooks", "cash box" → "cash boxes".
 fn capitalise(text: &str) -> String {
     let mut chars = text.chars();
     match chars.next() {
@@ -438,7 +437,7 @@ pub(crate) fn reading(i: &Interpretation) -> String {
 }
 
 /// The action a simulated reading is of: `X` in its `did(self,X)`.
-fn action_of(i: &Interpretation) -> &Term {
+pub(crate) fn action_of(i: &Interpretation) -> &Term {
     i.action.args().get(1).unwrap_or(&i.action)
 }
 

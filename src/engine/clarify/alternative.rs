@@ -7,18 +7,19 @@
 //! readings cap and deadline). Must not: offer one the simulation did not find permissible
 //! and feasible, offer a different verb, or look under the reflexive strategy.
 
+use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 
 use crate::engine::decision::{Decision, Interpretation, Plan, Style};
 use crate::engine::describe::Describer;
 use crate::engine::input::Spelled;
-use crate::engine::norms::{CompiledNorms, Scope};
-use crate::engine::request::{Options, Request, Strategy};
+use crate::engine::request::{Options, Strategy};
 use crate::engine::resolve::Template;
-use crate::engine::scene::{Object, PERSON, Scene};
+use crate::engine::scene::{Object, PERSON};
 use crate::engine::simulate::{Env, simulate};
+use crate::engine::speech;
 use crate::engine::term::{Sym, Term};
-use crate::engine::world::{Base, World};
+use crate::engine::world::World;
 
 /// Whether a refusal offers the nearest acceptable reading instead.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
@@ -51,14 +52,14 @@ impl Options {
     }
 }
 
-/// What the search needs of the request being decided.
-pub(super) struct Search<'a> {
-    pub request: &'a Request,
-    pub scene: &'a Scene,
-    pub norms: &'a CompiledNorms,
-    pub library: &'a crate::engine::action::Library,
+/// The world the request's readings were simulated in, and the bound on the search.
+pub(super) struct Search<'a, 'b> {
+    pub env: &'a Env<'b>,
+    pub world: &'a World<'b>,
+    /// The relation the human's joiner made the verb's effect, as for the readings.
     pub relation: Option<&'a (Sym, Sym)>,
-    pub expired: &'a (dyn Fn() -> bool + Sync),
+    /// Most changes looked at: the request's readings cap.
+    pub most: usize,
 }
 
 /// Whether the plan is one an alternative answers: a refusal or an explanation, every reading
@@ -67,62 +68,68 @@ pub(super) fn wanted(options: &Options, plan: &Plan, cut_short: bool) -> bool {
     options.offers_alternatives() && !cut_short && matches!(plan, Plan::Refuse(_) | Plan::Explain(_))
 }
 
-impl Search<'_> {
+/// How often the search asks the deadline, in changes looked at.
+const ASK_EVERY: usize = 1024;
+
+impl Search<'_, '_> {
     /// The nearest acceptable reading none of `readings` names, simulated; `None` when there is
-    /// none, the verb's readings are not of one action, or the cap or deadline ran out first.
+    /// none, the readings are not of one verb's action, or the cap or the deadline ran out
+    /// first. The changes looked at are the first [`Search::most`] in the readings' order (so
+    /// that ten thousand readings of ten thousand look-alikes are not a product); among them,
+    /// fewest differing features first.
     pub(super) fn nearest(&self, template: &Template<'_>, readings: &[Interpretation]) -> Option<Interpretation> {
         let Template::Verb(verb) = template else { return None };
-        let def = self.library.get(verb, readings.first()?.values.len())?;
-        let named: Vec<Term> = readings
-            .iter()
+        let (scene, expired) = (self.env.scene, self.env.expired);
+        let def = self.env.library.get(verb, readings.first()?.values.len())?;
+        let named: FxHashSet<Term> = (readings.iter())
             .map(|r| Term::compound(verb, r.values.clone()))
             .collect();
-        // (differing features, reading, argument, object) for every one-argument change.
+        // Per argument, the objects meeting its implied facts, if it has any: once, not per
+        // reading.
+        let mut meets: Vec<Option<Vec<usize>>> = Vec::with_capacity(def.params.len());
+        for param in &def.params {
+            let implied = def.implied.iter().find(|(q, _)| q == param);
+            meets.push(match implied {
+                Some((p, facts)) => Some(crate::engine::resolve::meeting(scene, p, facts, expired)?),
+                None => None,
+            });
+        }
+        // (differing features, reading, argument, object) for each one-argument change.
         let mut tried: Vec<(usize, usize, usize, usize)> = Vec::new();
-        for (r, reading) in readings.iter().enumerate() {
+        'readings: for (r, reading) in readings.iter().enumerate() {
             for (a, value) in reading.values.iter().enumerate() {
-                let Some(was) = value.name().and_then(|id| self.scene.object(id)) else {
+                let Some(was) = value.name().and_then(|id| scene.object(id)) else {
                     continue;
                 };
-                let implied = def.params.get(a).and_then(|p| def.implied.iter().find(|(q, _)| q == p));
-                let meets = implied.map(|(p, facts)| {
-                    crate::engine::resolve::meeting(self.scene, p, facts, self.expired).unwrap_or_default()
-                });
-                for (o, object) in self.scene.objects.iter().enumerate() {
-                    let kin = object.kind == was.kind || meets.as_ref().is_some_and(|m| m.contains(&o));
+                let meets = meets.get(a).and_then(Option::as_ref);
+                for (o, object) in scene.objects.iter().enumerate() {
+                    if o % ASK_EVERY == ASK_EVERY - 1 && expired() {
+                        return None;
+                    }
+                    let kin = object.kind == was.kind || meets.is_some_and(|m| m.binary_search(&o).is_ok());
                     if !kin || object.id == was.id || (object.kind == PERSON) != (was.kind == PERSON) {
                         continue;
                     }
                     tried.push((differing(was, object), r, a, o));
-                }
-                if (self.expired)() {
-                    return None;
+                    if tried.len() >= self.most {
+                        break 'readings;
+                    }
                 }
             }
         }
         tried.sort();
-        let request = self.request;
-        let base = Base::new(self.scene.facts_with_speaker(&request.speaker, &request.speaker_roles));
-        let scope = Scope {
-            context: &request.context,
-            roles: &request.speaker_roles,
-            soft: false,
-        };
-        let said: Vec<(Sym, Sym)> = self.relation.into_iter().cloned().collect();
-        let env = Env::new(self.scene, self.norms, self.library, scope, &base, &said, self.expired);
-        let world = World::new(&base);
-        let mut seen: Vec<Term> = Vec::new();
+        let mut seen: FxHashSet<Term> = FxHashSet::default();
         for (n, &(_, r, a, o)) in tried.iter().enumerate() {
-            if n >= request.options.max_readings || (n > 0 && (self.expired)()) {
+            if n > 0 && expired() {
                 return None;
             }
             let mut values = readings[r].values.clone();
-            values[a] = Term::Const(self.scene.objects[o].id.clone());
+            values[a] = Term::Const(scene.objects[o].id.clone());
             let action = Term::compound(verb, values.clone());
-            if named.contains(&action) || seen.contains(&action) {
+            if named.contains(&action) || !seen.insert(action.clone()) {
                 continue;
             }
-            let (outcome, done) = simulate(&env, &world, &action, self.relation);
+            let (outcome, done) = simulate(self.env, self.world, &action, self.relation);
             if outcome.unfinished() {
                 return None;
             }
@@ -137,7 +144,6 @@ impl Search<'_> {
             if reading.permissible() && reading.feasible() {
                 return Some(reading);
             }
-            seen.push(action);
         }
         None
     }
@@ -160,14 +166,9 @@ pub(super) fn offer(
     style: Style,
     describer: &mut Describer<'_>,
 ) {
-    let Some(found) = found else { return };
-    let inner = found
-        .action
-        .args()
-        .get(1)
-        .cloned()
-        .unwrap_or_else(|| found.action.clone());
-    let reading = describer.reading(&inner);
+    let Some(mut found) = found else { return };
+    found.description = describer.arguments(speech::action_of(&found));
+    let reading = speech::reading(&found);
     decision.utterance.push_str(&match style {
         Style::Diarc => format!(" Do you want me to {reading} instead?"),
         Style::Natural => format!(" Shall I {reading} instead?"),
