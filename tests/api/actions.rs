@@ -580,6 +580,8 @@ async fn an_implied_parameter_is_stored_checked_and_used() {
     let before: Vec<Value> = app.get("/v1/actions").await.json().await.unwrap();
     for (implied, field) in [
         (json!({"Z": ["broom(Z)"]}), "/implied/Z"),
+        // A key is one segment of the pointer, escaped.
+        (json!({"a/b~": ["broom(B)"]}), "/implied/a~1b~0"),
         (json!({"X": ["floor(X)"]}), "/implied/X"),
         (json!({"B": []}), "/implied/B"),
         (json!({"B": ["near(B,X)"]}), "/implied/B/0"),
@@ -616,4 +618,24 @@ async fn an_implied_parameter_is_stored_checked_and_used() {
         .into_inner();
     let implied = &got.implied;
     assert_eq!(implied["B"].facts, ["broom(B)"]);
+    // A default (empty) message of facts, and a key that is no parameter: INVALID_ARGUMENT
+    // naming the member, as REST names it; nothing stored.
+    for (parameter, facts, field) in [
+        ("B", vec![], "/implied/B"),
+        ("", vec!["broom(B)".to_owned()], "/implied/"),
+    ] {
+        let mut action = got.clone();
+        action.implied = [(parameter.to_owned(), pb::ImpliedFacts { facts })].into();
+        let status = actions
+            .put_action(pb::PutActionRequest {
+                name: "sweep".into(),
+                action: Some(action),
+            })
+            .await
+            .unwrap_err();
+        assert_eq!(status.code(), tonic::Code::InvalidArgument, "{parameter:?}");
+        assert_eq!(status.metadata().get("field").unwrap(), field);
+    }
+    let after: Vec<Value> = app.get("/v1/actions").await.json().await.unwrap();
+    assert_eq!(before, after, "a refused verb stores nothing");
 }

@@ -244,6 +244,9 @@ pub(crate) fn as_rest_json(r: pb::ClarifyResponse) -> Value {
     if let Some(text) = r.text {
         v["text"] = json!(text);
     }
+    if let Some(alternative) = r.alternative {
+        v["alternative"] = json!(alternative);
+    }
     if let Some(p) = r.parse {
         let references: Vec<Value> = (p.references.into_iter())
             .map(|r| json!({"words": r.words, "candidates": r.candidates}))
@@ -756,4 +759,33 @@ async fn missing_messages_that_would_change_norms_or_decisions_are_invalid_argum
     let clarify = ClarifierClient::new(channel).clarify(request).await.unwrap_err();
     assert_eq!(clarify.code(), Code::InvalidArgument);
     assert_eq!(clarify.metadata().get("field").unwrap(), "/scene/agent/reach");
+}
+
+/// An alternative over gRPC is REST's, field for field; `alternatives` that is no word (the
+/// empty string a client may send for "unset") is INVALID_ARGUMENT naming the option.
+#[tokio::test]
+async fn an_alternative_is_offered_alike_over_grpc_and_a_bad_option_is_named() {
+    let app = spawn_app().await;
+    app.add_norm(&json!({"kind": "forbidden_state", "state": "did(self,get(object3))"}))
+        .await;
+    let mut clarifier = ClarifierClient::new(channel(&app).await);
+    let body = json!({"directive": {"action": "get", "arguments": [{"id": "object3"}]}, "scene": lab_scene(),
+                      "options": {"style": "natural"}});
+    let rest = app.clarify(&body).await;
+    assert_eq!(rest["alternative"], "did(self,get(object4))", "{rest}");
+    let grpc = as_rest_json(clarifier.clarify(clarify_request(&body)).await.unwrap().into_inner());
+    assert_eq!(grpc, rest);
+    for word in ["", "sometimes"] {
+        let mut bad = body.clone();
+        bad["options"]["alternatives"] = json!(word);
+        let status = clarifier.clarify(clarify_request(&bad)).await.unwrap_err();
+        assert_eq!(status.code(), Code::InvalidArgument, "{word:?}");
+        assert_eq!(status.metadata().get("field").unwrap(), "/options/alternatives");
+        assert_problem(
+            app.post("/v1/clarify", &bad).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/options/alternatives"),
+        )
+        .await;
+    }
 }

@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 
 use super::{ActionDef, MAX_ITEMS, Method};
-use crate::engine::input::Invalid;
+use crate::engine::input::{Invalid, pointer_segment};
 use crate::engine::scene::PERSON;
 use crate::engine::term::{Sym, Term};
 
@@ -54,7 +54,7 @@ pub(super) fn implied_of(
 ) -> Result<Vec<(Sym, Vec<Term>)>, Invalid> {
     let mut implied: Vec<(usize, Sym, Vec<Term>)> = Vec::with_capacity(written.len());
     for (name, facts) in written {
-        let at = format!("/implied/{name}");
+        let at = format!("/implied/{}", pointer_segment(name));
         let Some(index) = params.iter().position(|p| &**p == name.as_str()) else {
             return Err(Invalid::new(at, format!("`{name}` is not a parameter of the verb")));
         };
@@ -98,7 +98,7 @@ pub(super) fn implied_of(
             .find(|p| !implied.iter().any(|(_, q, _)| q == *p))
             .expect("one is not implied");
         return Err(Invalid::new(
-            format!("/implied/{}", implied[0].1),
+            format!("/implied/{}", pointer_segment(&implied[0].1)),
             format!("`{plain}` comes after it and is not implied: only the verb's last parameters may be left unsaid"),
         ));
     }

@@ -332,3 +332,58 @@ fn a_refusal_offers_the_nearest_acceptable_reading_instead() {
     assert_eq!(d.kind, Explain, "{}", d.utterance);
     assert_eq!(d.alternative.as_ref().unwrap().to_string(), "did(self,get(mug2))");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Whatever the kitchen and the norms, an alternative is offered only after a refusal or an
+    /// explanation, is none of the readings named, and is what "yes" then does: permissible
+    /// and feasible when decided afresh.
+    #[test]
+    fn no_alternative_offered_is_forbidden_or_infeasible(
+        heaters in proptest::collection::vec((0usize..3, any::<bool>()), 1..5),
+        items in proptest::collection::vec((0usize..3, any::<bool>()), 1..5),
+        forbid in proptest::collection::vec(any::<bool>(), 3),
+        text in 0usize..5,
+    ) {
+        use crate::engine::decision::Style;
+        use crate::engine::request::Answer;
+        const HEATERS: [&str; 3] = ["microwave", "stove", "oven"];
+        const ITEMS: [(&str, &[&str]); 3] = [("can", &["metal"]), ("soup", &[]), ("bowl", &["metal"])];
+        let mut objects = Vec::new();
+        for (i, (k, far)) in heaters.iter().enumerate() {
+            let x = if *far { 3.0 } else { 0.6 };
+            objects.push(obj(&format!("{}{i}", HEATERS[*k]), HEATERS[*k], &["heater"], &[], [x, 0.1 * i as f64, 0.8], None));
+        }
+        for (i, (k, far)) in items.iter().enumerate() {
+            let x = if *far { 3.0 } else { 0.5 };
+            let (kind, props) = ITEMS[*k];
+            objects.push(obj(&format!("{kind}{i}"), kind, props, &[], [x, -0.1 * i as f64, 0.8], None));
+        }
+        let scene = scene(objects, &[]);
+        let all = [
+            when(fa("heat(X,Y)"), &["metal(X)", "microwave(Y)"]),
+            when(fa("heat(X,Y)"), &["stove(Y)"]),
+            when(fa("get(X)"), &["soup(X)"]),
+        ];
+        let chosen: Vec<NormInput> = all.iter().zip(&forbid).filter(|(_, f)| **f).map(|(n, _)| n.clone()).collect();
+        let norms = norms(&chosen);
+        let said = [
+            "Heat the can in the microwave.",
+            "Heat up the can.",
+            "Heat the soup on the stove.",
+            "Get the soup.",
+            "Heat the bowl with the oven.",
+        ][text];
+        let d = run(&styled(said, Style::Natural), &scene, &norms);
+        if let Some(alternative) = &d.alternative {
+            prop_assert!(matches!(d.kind, Refuse | Explain), "{:?} offers {}", d.kind, alternative);
+            prop_assert!(d.interpretations.iter().all(|i| &i.action != alternative), "{} was named", alternative);
+            let yes = Request { answer: Some(Answer::Yes), ..styled(said, Style::Natural) };
+            let taken = run(&yes, &scene, &norms);
+            prop_assert_eq!(taken.goal.as_ref(), Some(alternative), "{}", taken.utterance);
+            let reading = taken.interpretations.iter().find(|i| &i.action == alternative).unwrap();
+            prop_assert!(reading.permissible() && reading.feasible(), "{} offered: {}", alternative, d.utterance);
+        }
+    }
+}
