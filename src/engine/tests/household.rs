@@ -387,3 +387,36 @@ proptest! {
         }
     }
 }
+
+/// A purpose after a verb whose joiner is "to" is read, not taken for its recipient: "to" and
+/// a verb the robot knows start a purpose, anything else after "to" is the second argument.
+#[test]
+fn a_purpose_after_a_to_joiner_is_read_and_judged() {
+    let kitchen = kitchen();
+    let destroy = norms(&[fa("destroy")]);
+    for (text, kind, utterance) in [
+        (
+            "Bring me the cup to smash it.",
+            Refuse,
+            "I cannot give the cup to you to destroy it because destroy is forbidden action.",
+        ),
+        (
+            "Give the cup to me to break the plate.",
+            Refuse,
+            "I cannot give the cup to you to destroy the plate because destroy is forbidden action.",
+        ),
+        ("Give the cup to me to wash it.", Comply, "Okay."),
+        (
+            "Give the cup to me to not smash it.",
+            NotUnderstood,
+            "I did not understand \"to not smash it\".",
+        ),
+    ] {
+        let d = run(&words(text), &kitchen, &destroy);
+        assert_eq!(d.kind, kind, "{text}: {}", d.utterance);
+        assert_eq!(d.utterance, utterance, "{text}");
+    }
+    // A purpose the words name no object of is not dropped: it is not understood or unresolved.
+    let d = run(&words("Give the cup to me to smash the vase."), &kitchen, &destroy);
+    assert_eq!(d.kind, Unresolved, "{}", d.utterance);
+}

@@ -367,7 +367,9 @@ fn clause(
     let mut starts: Vec<(usize, usize)> = Vec::new();
     let mut from = 0;
     while from < plain.len()
-        && let Some((at, verb_word)) = purpose_at(&plain[from..], &joiners)
+        && let Some((at, verb_word)) = purpose_at(&plain[from..], &joiners, &|i| {
+            verb_at(&plain[from..], i, lexicon).is_some()
+        })
     {
         starts.push((from + at, verb_word));
         from += at + verb_word;

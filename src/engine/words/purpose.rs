@@ -92,8 +92,14 @@ pub(super) fn need_at(words: &[String]) -> Option<(usize, Act)> {
 }
 
 /// Where a purpose starts in `rest` (after a reference's first word), and the position of its
-/// verb within it.
-pub(super) fn purpose_at(rest: &[String], joiners: &[String]) -> Option<(usize, usize)> {
+/// verb within it. `known_verb(i)`: whether a verb the robot knows is said at `rest[i]`; after
+/// a "to" that joins the verb's arguments ("give the knife to the child to smash the cup")
+/// only such a verb, or a negation, starts a purpose: anything else is the second argument.
+pub(super) fn purpose_at(
+    rest: &[String],
+    joiners: &[String],
+    known_verb: &dyn Fn(usize) -> bool,
+) -> Option<(usize, usize)> {
     const SUBJECTS: &[&str] = &["i", "we", "you", "he", "she", "they"];
     const MODALS: &[&str] = &["can", "could", "may", "might", "will", "would"];
     /// Words after "to" that make it a place or a relation, not a purpose.
@@ -105,7 +111,11 @@ pub(super) fn purpose_at(rest: &[String], joiners: &[String]) -> Option<(usize, 
         if is(rest, i, &["in", "order", "to"]) {
             return Some((i, 3));
         }
-        if rest[i] == "to" && !joiners.iter().any(|j| j == "to") {
+        if rest[i] == "to" && joiners.iter().any(|j| j == "to") {
+            let w = next?;
+            return (["not", "never"].contains(&w) || known_verb(i + 1)).then_some((i, 1));
+        }
+        if rest[i] == "to" {
             let w = next?;
             // "to not reheat it" is a purpose too, negated.
             let verb_like = ["not", "never"].contains(&w)
