@@ -366,8 +366,11 @@ fn options(value: &Value, at: &str) -> Result<pb::Options> {
 
 fn answer(value: &Value, at: &str) -> Result<pb::Answer> {
     let f = Fields::of(value, at, &["choice", "id", "reference", "text"])?;
+    // REST's `"choice": "alternative"` is gRPC's `alternative`.
+    let alternative = f.get("choice").is_some_and(|c| c == "alternative");
     Ok(pb::Answer {
-        choice: f.count("choice")?,
+        choice: if alternative { None } else { f.count("choice")? },
+        alternative,
         id: f.string("id")?,
         reference: f.nested("reference", reference)?,
         text: f.string("text")?,

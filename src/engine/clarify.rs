@@ -499,7 +499,7 @@ fn decide_directive(
     // "yes" confirms the reading a question to confirm named, or takes the alternative offered
     // (one that became unacceptable is not found again: the refusal stands), decided afresh;
     // "no" to it, or either to anything else, leaves nothing to do.
-    if matches!(answer, Some(Answer::Yes))
+    if matches!(answer, Some(Answer::Yes | Answer::Alternative))
         && let Some(alternative) = found.take()
     {
         readings = vec![alternative];
@@ -507,7 +507,13 @@ fn decide_directive(
         return Ok(finish(plan, readings, limits, &mut describer));
     }
     match (answer, &plan) {
-        (Some(Answer::Yes), Plan::Refuse(_) | Plan::Explain(_)) if options.offers_alternatives() => {}
+        (Some(Answer::Yes | Answer::Alternative), Plan::Refuse(_) | Plan::Explain(_))
+            if options.offers_alternatives() => {}
+        (Some(Answer::Alternative), other) => {
+            return Err(EngineError::NothingAsked {
+                decision: plan_kind(other).as_str(),
+            });
+        }
         (Some(Answer::Yes), Plan::Confirm { chosen, .. }) => {
             readings = vec![readings.swap_remove(*chosen)];
             plan = decide(options, &readings, &slots, false);
@@ -667,7 +673,6 @@ mod said;
 #[cfg(test)]
 mod tests;
 
-pub use alternative::Alternatives;
 use pool::{parallel_batch, permute, simulate_apart};
 use presort::{contract_key, presort};
 use said::joined;

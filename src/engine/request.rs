@@ -5,99 +5,22 @@
 //! JSON names it). Must not: resolve, simulate or decide; a `Request` that exists is valid
 //! against the scene it was built with.
 
-pub use super::clarify::Alternatives;
 use std::collections::BTreeMap;
 use std::time::Duration;
 
-use serde::{Deserialize, Serialize};
-
 use super::action::verb_name;
-use super::decision::Style;
-use super::input::{Invalid, RequestLimits, Spelled, constant, pointer_segment, ranged};
+use super::input::{Invalid, RequestLimits, constant, pointer_segment};
 use super::norms::{context_name, validate_roles};
 use super::resolve::{Candidate, Reference, ReferenceInput};
 use super::scene::{DEFAULT_SPEAKER, Scene, SceneInput};
 use super::task::{Argument, MAX_STEPS, Step, Task};
 use super::term::{Sym, Term};
 
-/// Defaults of the options that bound a request's work and words.
-pub const DEFAULT_MAX_SPOKEN: usize = 5;
-pub const DEFAULT_MAX_READINGS: usize = 10_000;
-/// The most readings a request may ask to be read (`options.max_readings`).
-pub const MOST_READINGS: usize = 100_000;
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Strategy {
-    /// The paper's algorithm: simulate first, then ask only about what may be done.
-    #[default]
-    Moral,
-    /// The status quo the paper argues against: ask about every candidate before moral reasoning.
-    Reflexive,
-}
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SinglePermissible {
-    #[default]
-    Assume,
-    Confirm,
-}
-
-/// Whether soft norms rank the readings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SoftNorms {
-    /// Among the acceptable readings only those with the highest norm score are kept.
-    #[default]
-    Rank,
-    /// Soft norms are not checked: an experiment's control condition.
-    Ignore,
-}
-
-impl Spelled for SoftNorms {
-    const ALL: &'static [SoftNorms] = &[SoftNorms::Rank, SoftNorms::Ignore];
-
-    fn as_str(self) -> &'static str {
-        match self {
-            SoftNorms::Rank => "rank",
-            SoftNorms::Ignore => "ignore",
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    pub strategy: Strategy,
-    pub single_permissible: SinglePermissible,
-    pub style: Style,
-    /// Most readings a question names; above it the question names the few likeliest and ends
-    /// "or something else", or names the ambiguous words.
-    pub max_spoken: usize,
-    /// Most readings simulated; above it nothing is simulated and the ambiguous words are named.
-    pub max_readings: usize,
-    /// When exactly one reading is acceptable and the share of the others is above this ratio,
-    /// confirm instead of assuming. `None`: always Algorithm 1's assumption.
-    pub confirm_above_ratio: Option<f64>,
-    pub soft_norms: SoftNorms,
-    /// Whether a refusal offers the nearest acceptable reading; `None`: by the style.
-    pub alternatives: Option<Alternatives>,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            strategy: Strategy::Moral,
-            single_permissible: SinglePermissible::Assume,
-            style: Style::Diarc,
-            max_spoken: DEFAULT_MAX_SPOKEN,
-            max_readings: DEFAULT_MAX_READINGS,
-            confirm_above_ratio: None,
-            soft_norms: SoftNorms::Rank,
-            alternatives: None,
-        }
-    }
-}
+mod options;
+pub use options::{
+    Alternatives, DEFAULT_MAX_READINGS, DEFAULT_MAX_SPOKEN, MOST_READINGS, Options, OptionsInput, SinglePermissible,
+    SoftNorms, Strategy,
+};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Directive {
@@ -136,6 +59,8 @@ pub enum Answer {
     Yes,
     /// "no": after a question to confirm, nothing is done.
     No,
+    /// `{"choice": "alternative"}`: the alternative a refusal offered, decided afresh.
+    Alternative,
     /// "never mind", "none of them" (the words): after any question, nothing is done.
     Cancel(String),
     /// A whole new directive in words ("Get the vase."): decided afresh, as if said first.
@@ -157,28 +82,6 @@ pub struct Request {
     /// Objects in the focus of attention from earlier turns, most salient first: what "it"
     /// and "that one" refer to in words.
     pub focus: Vec<String>,
-}
-
-impl Spelled for Strategy {
-    const ALL: &'static [Strategy] = &[Strategy::Moral, Strategy::Reflexive];
-
-    fn as_str(self) -> &'static str {
-        match self {
-            Strategy::Moral => "moral",
-            Strategy::Reflexive => "reflexive",
-        }
-    }
-}
-
-impl Spelled for SinglePermissible {
-    const ALL: &'static [SinglePermissible] = &[SinglePermissible::Assume, SinglePermissible::Confirm];
-
-    fn as_str(self) -> &'static str {
-        match self {
-            SinglePermissible::Assume => "assume",
-            SinglePermissible::Confirm => "confirm",
-        }
-    }
 }
 
 /// A candidate from an upstream resolver, before it is checked: an id, or an id with a score.
@@ -225,25 +128,11 @@ pub struct StepArgumentInput {
 /// A follow-up answer as a request gives it: exactly one of the three.
 #[derive(Clone, Debug, Default)]
 pub struct AnswerInput {
-    pub choice: Option<u64>,
+    pub choice: Option<Choice>,
     pub id: Option<String>,
     pub reference: Option<ReferenceInput>,
     /// The answer in the human's words: "the red one", "the second one", "yes".
     pub text: Option<String>,
-}
-
-/// The options as a request gives them; absent ones take their defaults.
-#[derive(Clone, Debug, Default)]
-pub struct OptionsInput {
-    pub strategy: Option<Strategy>,
-    pub single_permissible: Option<SinglePermissible>,
-    pub style: Option<Style>,
-    pub max_spoken: Option<u64>,
-    pub max_readings: Option<u64>,
-    pub deadline_ms: Option<u64>,
-    pub confirm_above_ratio: Option<f64>,
-    pub soft_norms: Option<SoftNorms>,
-    pub alternatives: Option<Alternatives>,
 }
 
 /// A whole clarify request as a client sent it, before anything is checked.
@@ -332,59 +221,28 @@ fn focus_of(focus: Vec<String>, scene: &Scene) -> Result<Vec<String>, Invalid> {
     Ok(focus)
 }
 
-impl Options {
-    /// The options and the deadline they ask for; fields named as in the request (`/options/..`).
-    fn from_input(options: OptionsInput, limits: &RequestLimits) -> Result<(Options, Duration), Invalid> {
-        if let Some(ratio) = options.confirm_above_ratio
-            && !(ratio.is_finite() && (0.0..1.0).contains(&ratio))
-        {
-            return Err(Invalid::new(
-                "/options/confirm_above_ratio",
-                "must be a ratio with 0 ≤ ratio < 1",
-            ));
-        }
-        let deadline = limits.deadline(options.deadline_ms)?;
-        let max_spoken = ranged(
-            "/options/max_spoken",
-            options.max_spoken,
-            2..=50,
-            DEFAULT_MAX_SPOKEN as u64,
-        )?;
-        let max_readings = ranged(
-            "/options/max_readings",
-            options.max_readings,
-            1..=MOST_READINGS as u64,
-            DEFAULT_MAX_READINGS as u64,
-        )?;
-        let options = Options {
-            strategy: options.strategy.unwrap_or_default(),
-            single_permissible: options.single_permissible.unwrap_or_default(),
-            style: options.style.unwrap_or_default(),
-            max_spoken: max_spoken as usize,
-            max_readings: max_readings as usize,
-            confirm_above_ratio: options.confirm_above_ratio,
-            soft_norms: options.soft_norms.unwrap_or_default(),
-            alternatives: options.alternatives,
-        };
-        Ok((options, deadline))
-    }
+/// A follow-up's `choice`: a position among the readings a question named, or the alternative
+/// a refusal offered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Choice {
+    At(u64),
+    Alternative,
 }
 
 impl Answer {
     /// Fields named relative to the answer.
     fn from_input(input: AnswerInput, scene: &Scene, limits: &RequestLimits) -> Result<Answer, Invalid> {
+        let one = || Invalid::new("", "give exactly one of `choice`, `id`, `reference`, `text`");
         if let Some(text) = input.text {
             if input.choice.is_some() || input.id.is_some() || input.reference.is_some() {
-                return Err(Invalid::new(
-                    "",
-                    "give exactly one of `choice`, `id`, `reference`, `text`",
-                ));
+                return Err(one());
             }
             limits.text(&text)?;
             return Ok(Answer::Words(text));
         }
         match (input.choice, input.id, input.reference) {
-            (Some(choice), None, None) => Ok(Answer::Choice(usize::try_from(choice).unwrap_or(usize::MAX))),
+            (Some(Choice::At(at)), None, None) => Ok(Answer::Choice(usize::try_from(at).unwrap_or(usize::MAX))),
+            (Some(Choice::Alternative), None, None) => Ok(Answer::Alternative),
             (None, Some(id), None) => {
                 if scene.object(&id).is_none() {
                     return Err(Invalid::new("/id", format!("no object `{id}` in the scene")));
@@ -406,10 +264,7 @@ impl Answer {
                     described => Ok(Answer::Reference(described)),
                 }
             }
-            _ => Err(Invalid::new(
-                "",
-                "give exactly one of `choice`, `id`, `reference`, `text`",
-            )),
+            _ => Err(one()),
         }
     }
 }

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 pub use super::scene::{AgentBody, ObjectBody, PersonBody, SceneBody, ShapeBody};
+pub use super::spelling::ChoiceBody;
 use crate::engine::decision::{BoundTo, Decision, Interpretation, Limits, Style, Understood};
 use crate::engine::request::{
     Alternatives, AnswerInput, BindingInput, DirectiveInput, OptionsInput, RequestInput, SinglePermissible, SoftNorms,
@@ -42,12 +43,13 @@ pub struct ClarifyBody {
 }
 
 /// A follow-up: exactly one of `choice` (the position, from 0, among the readings the question
-/// named: the `offered` of the answer to the original request), `id`, `reference`, or `text`.
+/// named: the `offered` of the answer to the original request; or `"alternative"`, the
+/// alternative a refusal offered), `id`, `reference`, or `text`.
 #[derive(Clone, Debug, Default, Deserialize, Serialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AnswerBody {
     #[serde(default)]
-    pub choice: Option<u64>,
+    pub choice: Option<ChoiceBody>,
     #[serde(default)]
     pub id: Option<String>,
     #[serde(default)]
@@ -243,7 +245,7 @@ impl From<ClarifyBody> for RequestInput {
             options: body.options.map(Into::into),
             speaker_roles: body.speaker_roles,
             answer: body.answer.map(|a| AnswerInput {
-                choice: a.choice,
+                choice: a.choice.map(Into::into),
                 id: a.id,
                 reference: a.reference.map(Into::into),
                 text: a.text,

@@ -19,9 +19,10 @@ use crate::error::Error;
 
 pub use check::{CheckBody, CheckDto, CheckOptionsBody, StepCheckDto};
 pub use clarify::{
-    AgentBody, AnswerBody, BindingBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto, LimitsDto,
-    ObjectBody, OptionsBody, ParseDto, PersonBody, PronounParseDto, PurposeParseDto, ReasonDto, ReferenceBody,
-    ReferenceParseDto, RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody, StepParseDto,
+    AgentBody, AnswerBody, BindingBody, ChoiceBody, ClarifyBody, DecisionDto, DirectiveBody, InterpretationDto,
+    LimitsDto, ObjectBody, OptionsBody, ParseDto, PersonBody, PronounParseDto, PurposeParseDto, ReasonDto,
+    ReferenceBody, ReferenceParseDto, RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody,
+    StepParseDto,
 };
 pub use norms::{
     AuditEntryDto, AuditPageDto, NormBody, NormDto, NormSetBody, NormSetDto, NormSetImportSchema, NormSetObject,

@@ -41,3 +41,73 @@ spelled_schema!(SinglePermissible, "SinglePermissibleBody");
 spelled_schema!(Style, "StyleBody");
 spelled_schema!(SoftNorms, "SoftNormsBody");
 spelled_schema!(Alternatives, "AlternativesBody");
+
+/// A follow-up's `choice`: a position, from 0, among the readings the question named, or
+/// `"alternative"`: the alternative a refusal offered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ChoiceBody {
+    At(u64),
+    Alternative,
+}
+
+/// The one word a `choice` may be.
+const ALTERNATIVE: &str = "alternative";
+
+impl serde::Serialize for ChoiceBody {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            ChoiceBody::At(at) => serializer.serialize_u64(*at),
+            ChoiceBody::Alternative => serializer.serialize_str(ALTERNATIVE),
+        }
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ChoiceBody {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Choice;
+        impl serde::de::Visitor<'_> for Choice {
+            type Value = ChoiceBody;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "a position from 0, or \"{ALTERNATIVE}\"")
+            }
+
+            fn visit_u64<E: serde::de::Error>(self, at: u64) -> Result<ChoiceBody, E> {
+                Ok(ChoiceBody::At(at))
+            }
+
+            fn visit_str<E: serde::de::Error>(self, word: &str) -> Result<ChoiceBody, E> {
+                match word {
+                    ALTERNATIVE => Ok(ChoiceBody::Alternative),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(word), &self)),
+                }
+            }
+        }
+        deserializer.deserialize_any(Choice)
+    }
+}
+
+impl PartialSchema for ChoiceBody {
+    fn schema() -> RefOr<Schema> {
+        let at = ObjectBuilder::new().schema_type(Type::Integer).minimum(Some(0));
+        let word = ObjectBuilder::new()
+            .schema_type(Type::String)
+            .enum_values(Some([ALTERNATIVE]));
+        utoipa::openapi::schema::OneOfBuilder::new().item(at).item(word).into()
+    }
+}
+
+impl ToSchema for ChoiceBody {
+    fn name() -> Cow<'static, str> {
+        Cow::Borrowed("ChoiceBody")
+    }
+}
+
+impl From<ChoiceBody> for crate::engine::request::Choice {
+    fn from(choice: ChoiceBody) -> Self {
+        match choice {
+            ChoiceBody::At(at) => crate::engine::request::Choice::At(at),
+            ChoiceBody::Alternative => crate::engine::request::Choice::Alternative,
+        }
+    }
+}

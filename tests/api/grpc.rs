@@ -198,6 +198,7 @@ pub(crate) fn clarify_request(body: &Value) -> pb::ClarifyRequest {
         speaker_roles: strings(&body["speaker_roles"]),
         answer: body.get("answer").map(|a| pb::Answer {
             choice: a["choice"].as_u64(),
+            alternative: a["choice"] == "alternative",
             id: opt(&a["id"]),
             reference: a.get("reference").map(reference),
             text: opt(&a["text"]),
@@ -761,8 +762,9 @@ async fn missing_messages_that_would_change_norms_or_decisions_are_invalid_argum
     assert_eq!(clarify.metadata().get("field").unwrap(), "/scene/agent/reach");
 }
 
-/// An alternative over gRPC is REST's, field for field; `alternatives` that is no word (the
-/// empty string a client may send for "unset") is INVALID_ARGUMENT naming the option.
+/// An alternative over gRPC is REST's, field for field, and so is taking it; `alternatives`
+/// that is no word (the empty string a client may send for "unset") is INVALID_ARGUMENT naming
+/// the option, and a choice of nothing offered is refused naming the answer.
 #[tokio::test]
 async fn an_alternative_is_offered_alike_over_grpc_and_a_bad_option_is_named() {
     let app = spawn_app().await;
@@ -775,6 +777,44 @@ async fn an_alternative_is_offered_alike_over_grpc_and_a_bad_option_is_named() {
     assert_eq!(rest["alternative"], "did(self,get(object4))", "{rest}");
     let grpc = as_rest_json(clarifier.clarify(clarify_request(&body)).await.unwrap().into_inner());
     assert_eq!(grpc, rest);
+    // {"choice": "alternative"} (gRPC: `alternative`) takes it, decided afresh, on both.
+    let mut taken = body.clone();
+    taken["answer"] = json!({"choice": "alternative"});
+    let rest = app.clarify(&taken).await;
+    assert_eq!(
+        (&rest["decision"], &rest["goal"]),
+        (&json!("comply"), &json!("did(self,get(object4))")),
+        "{rest}"
+    );
+    let grpc = as_rest_json(clarifier.clarify(clarify_request(&taken)).await.unwrap().into_inner());
+    assert_eq!(grpc, rest);
+    // With none offered (the diarc style's default) there is nothing to choose: 422 naming the
+    // answer; a choice that is neither a position nor the word: 422 naming the choice.
+    let mut unasked = taken.clone();
+    unasked["options"] = json!({});
+    assert_problem(
+        app.post("/v1/clarify", &unasked).await,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/answer"),
+    )
+    .await;
+    let status = clarifier.clarify(clarify_request(&unasked)).await.unwrap_err();
+    assert_eq!(status.metadata().get("field").unwrap(), "/answer");
+    for choice in [json!("Alternative"), json!(-1), json!(true)] {
+        let mut bad = taken.clone();
+        bad["answer"] = json!({"choice": choice});
+        assert_problem(
+            app.post("/v1/clarify", &bad).await,
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("/answer/choice"),
+        )
+        .await;
+    }
+    let mut both = clarify_request(&taken);
+    both.answer.as_mut().unwrap().choice = Some(0);
+    let status = clarifier.clarify(both).await.unwrap_err();
+    assert_eq!(status.code(), Code::InvalidArgument);
+    assert_eq!(status.metadata().get("field").unwrap(), "/answer");
     for word in ["", "sometimes"] {
         let mut bad = body.clone();
         bad["options"]["alternatives"] = json!(word);

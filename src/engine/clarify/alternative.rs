@@ -8,49 +8,16 @@
 //! and feasible, offer a different verb, or look under the reflexive strategy.
 
 use rustc_hash::FxHashSet;
-use serde::{Deserialize, Serialize};
 
 use crate::engine::decision::{Decision, Interpretation, Plan, Style};
 use crate::engine::describe::Describer;
-use crate::engine::input::Spelled;
-use crate::engine::request::{Options, Strategy};
+use crate::engine::request::Options;
 use crate::engine::resolve::Template;
 use crate::engine::scene::{Object, PERSON};
 use crate::engine::simulate::{Env, simulate};
 use crate::engine::speech;
 use crate::engine::term::{Sym, Term};
 use crate::engine::world::World;
-
-/// Whether a refusal offers the nearest acceptable reading instead.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Alternatives {
-    Offer,
-    Off,
-}
-
-impl Spelled for Alternatives {
-    const ALL: &'static [Alternatives] = &[Alternatives::Offer, Alternatives::Off];
-
-    fn as_str(self) -> &'static str {
-        match self {
-            Alternatives::Offer => "offer",
-            Alternatives::Off => "off",
-        }
-    }
-}
-
-impl Options {
-    /// Whether alternatives are looked for: as asked, else in the natural style only (the
-    /// paper's words stay exact), and never under the reflexive strategy.
-    pub fn offers_alternatives(&self) -> bool {
-        let asked = self.alternatives.unwrap_or(match self.style {
-            Style::Diarc => Alternatives::Off,
-            Style::Natural => Alternatives::Offer,
-        });
-        asked == Alternatives::Offer && self.strategy == Strategy::Moral
-    }
-}
 
 /// The world the request's readings were simulated in, and the bound on the search.
 pub(super) struct Search<'a, 'b> {

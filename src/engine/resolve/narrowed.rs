@@ -21,9 +21,13 @@ fn answer_names(answer: &Answer, named: &[bool], value: &Term, scene: &Scene) ->
     match answer {
         Answer::Id(id) => scene.objects[index].id == id.as_str(),
         Answer::Reference(_) => named[index],
-        Answer::Choice(_) | Answer::Yes | Answer::No | Answer::Cancel(_) | Answer::Directive(_) | Answer::Words(_) => {
-            true
-        }
+        Answer::Choice(_)
+        | Answer::Yes
+        | Answer::No
+        | Answer::Alternative
+        | Answer::Cancel(_)
+        | Answer::Directive(_)
+        | Answer::Words(_) => true,
     }
 }
 

@@ -304,6 +304,19 @@ fn a_refusal_offers_the_nearest_acceptable_reading_instead() {
     let d = run(&yes, &kitchen, &no_cans_in_the_microwave());
     assert_eq!(d.kind, Comply, "{}", d.utterance);
     assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(can1,stove1))");
+    // {"choice": "alternative"} is the same answer; with none offered, nothing was asked.
+    let chosen = Request {
+        answer: Some(Answer::Alternative),
+        ..asked.clone()
+    };
+    assert_eq!(run(&chosen, &kitchen, &no_cans_in_the_microwave()).goal, d.goal.clone());
+    let unasked = Request {
+        answer: Some(Answer::Alternative),
+        ..words(text)
+    };
+    let library = Library::default_library();
+    let refused = clarify(&unasked, &kitchen, &no_cans_in_the_microwave(), &library, &|| false);
+    assert!(refused.is_err(), "nothing was offered to choose");
     // Forbidden meanwhile: nothing is taken instead, the refusal stands.
     let stricter = norms(&[
         when(fa("heat(X,Y)"), &["metal(X)", "microwave(Y)"]),

@@ -12,8 +12,8 @@ use crate::engine::input::Spelled;
 use crate::engine::request::{Alternatives, SinglePermissible, SoftNorms, Strategy};
 use crate::error::Error;
 use crate::wire::{
-    AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ClarifyBody, DecisionDto, DirectiveBody,
-    InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, PersonBody, ReasonDto, ReferenceBody,
+    AgentBody, AnswerBody, BindingBody, CheckBody, CheckDto, CheckOptionsBody, ChoiceBody, ClarifyBody, DecisionDto,
+    DirectiveBody, InterpretationDto, NormBody, NormDto, ObjectBody, OptionsBody, PersonBody, ReasonDto, ReferenceBody,
     ReferenceParseDto, RelationBody, Scalar, SceneBody, ShapeBody, StepArgumentBody, StepBody,
 };
 
@@ -61,6 +61,24 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
                 })
             })
             .transpose()?;
+        let answer = request.answer.map(|a| -> Result<AnswerBody, Error> {
+            let choice = match (a.choice, a.alternative) {
+                (at, false) => at.map(ChoiceBody::At),
+                (None, true) => Some(ChoiceBody::Alternative),
+                (Some(_), true) => {
+                    return Err(Error::invalid(
+                        "/answer",
+                        "give exactly one of `choice`, `alternative`, `id`, `reference`, `text`",
+                    ));
+                }
+            };
+            Ok(AnswerBody {
+                choice,
+                id: a.id,
+                reference: a.reference.map(ReferenceBody::from),
+                text: a.text,
+            })
+        });
         Ok(ClarifyBody {
             speaker: request.speaker,
             directive: directive.into(),
@@ -68,12 +86,7 @@ impl TryFrom<pb::ClarifyRequest> for ClarifyBody {
             context: request.context,
             options,
             speaker_roles: (!request.speaker_roles.is_empty()).then_some(request.speaker_roles),
-            answer: request.answer.map(|a| AnswerBody {
-                choice: a.choice,
-                id: a.id,
-                reference: a.reference.map(ReferenceBody::from),
-                text: a.text,
-            }),
+            answer: answer.transpose()?,
             focus: (!request.focus.is_empty()).then_some(request.focus),
         })
     }
