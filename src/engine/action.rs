@@ -444,6 +444,10 @@ pub struct VerbPhrase {
     pub joiners: Vec<String>,
     /// Whether the verb's arguments after its first may be left unsaid ("Heat up the soup.").
     pub leaves_unsaid: bool,
+    /// Whether the verb's second argument is a person it hands something to, who may be said
+    /// first ("Hand Bob the knife."): a verb of two parameters whose every method takes the
+    /// second as a person.
+    pub recipient: bool,
 }
 
 impl Library {
@@ -520,6 +524,7 @@ impl Library {
                         arity: def.params.len(),
                         joiners: def.joiners.clone(),
                         leaves_unsaid: def.unsaid(1).is_some(),
+                        recipient: def.params.len() == 2 && def.methods.iter().all(|m| m.takes_person(&def.params[1])),
                     })
                 })
                 .collect();

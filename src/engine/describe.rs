@@ -530,7 +530,11 @@ impl<'a> Describer<'a> {
                 out.push_str(joiner);
                 out.push(' ');
             }
-            if named.contains(arg) || step.args()[..i].contains(arg) {
+            // A person is never "it": named again, by name, role or "you".
+            let person = arg
+                .name()
+                .is_some_and(|id| self.listener.as_ref() == Some(id) || self.scene.is_person(id));
+            if !person && (named.contains(arg) || step.args()[..i].contains(arg)) {
                 out.push_str(if members(arg).is_some() { "them" } else { "it" });
             } else {
                 self.argument_into(arg, out);

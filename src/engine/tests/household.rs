@@ -433,3 +433,70 @@ fn a_purpose_after_a_to_joiner_is_read_and_judged() {
     let d = run(&words("Give the cup to me to smash the vase."), &kitchen, &destroy);
     assert_eq!(d.kind, Unresolved, "{}", d.utterance);
 }
+
+/// The recipient said first ("Hand Bob the knife."): read for a verb whose second argument is
+/// a person; a narrowing after it narrows the object said last, never the recipient; words
+/// that are not one short reference before the object are not read so.
+#[test]
+fn a_recipient_may_be_said_before_the_object() {
+    use crate::engine::scene::{AgentInput, ObjectInput, PersonInput, SceneInput};
+    let thing = |id: &str, kind: &str, colour: &str, y: f64| ObjectInput {
+        id: id.into(),
+        kind: kind.into(),
+        properties: Vec::new(),
+        attributes: [("colour".to_owned(), colour.to_owned())].into(),
+        position: [0.5, y, 0.8],
+        shape: None,
+        rotation: None,
+        mass: None,
+        names: Vec::new(),
+    };
+    let input = SceneInput {
+        agent: AgentInput {
+            id: None,
+            position: [0.0, 0.0, 0.75],
+            reach: 1.5,
+            gripper_aperture: None,
+            payload: None,
+            gripper_size: None,
+            rotation: None,
+        },
+        objects: vec![thing("cup1", "cup", "red", 0.1), thing("cup2", "cup", "blue", -0.1)],
+        facts: Vec::new(),
+        people: vec![PersonInput {
+            id: "bob".into(),
+            names: vec!["Bob".into()],
+            roles: vec!["child".into()],
+            position: [0.8, 0.0, 0.0],
+        }],
+    };
+    let scene = Scene::from_input(input, &crate::engine::input::RequestLimits::default()).unwrap();
+    for (text, kind, goal) in [
+        ("Hand Bob the red cup.", Comply, Some("did(self,give(cup1,bob))")),
+        ("Give the child the blue cup.", Comply, Some("did(self,give(cup2,bob))")),
+        // The narrowing is the object's: the blue cup, never the red one.
+        (
+            "Hand Bob the cup, not the red one.",
+            Comply,
+            Some("did(self,give(cup2,bob))"),
+        ),
+        (
+            "Hand Bob the cups.",
+            Comply,
+            Some("did(self,and(give(cup1,bob),give(cup2,bob)))"),
+        ),
+        // Not one short reference before the object: not read as a recipient.
+        ("Give the cup near Bob the cup.", Unresolved, None),
+    ] {
+        let d = run(&words(text), &scene, &norms(&[]));
+        assert_eq!(d.kind, kind, "{text}: {}", d.utterance);
+        assert_eq!(
+            d.goal.as_ref().map(Term::to_string).as_deref(),
+            goal,
+            "{text}: {}",
+            d.utterance
+        );
+    }
+    let d = run(&words("Hand Bob the cups."), &scene, &norms(&[]));
+    assert_eq!(d.utterance, "Okay.");
+}

@@ -314,16 +314,16 @@ fn clause(
     if words.iter().any(|w| w == "then") {
         return unclear(Unclear::Unplaced, said(&words));
     }
-    let (verb, arity, joiners, mut rest, leaves) = if needed {
+    let (verb, arity, joiners, mut rest, (leaves, recipient)) = if needed {
         match lexicon.verbs.iter().find(|p| p.words == ["bring"]) {
             Some(phrase) => (
                 phrase.verb.clone(),
                 phrase.arity,
                 phrase.joiners.clone(),
                 words.clone(),
-                phrase.leaves_unsaid,
+                (phrase.leaves_unsaid, phrase.recipient),
             ),
-            None => ("bring".to_owned(), 1, Vec::new(), words.clone(), false),
+            None => ("bring".to_owned(), 1, Vec::new(), words.clone(), (false, false)),
         }
     } else {
         match verb_at(&words, 0, lexicon) {
@@ -334,7 +334,7 @@ fn clause(
                     phrase.arity,
                     phrase.joiners.clone(),
                     rest,
-                    phrase.leaves_unsaid,
+                    (phrase.leaves_unsaid, phrase.recipient),
                 )
             }
             None => {
@@ -348,7 +348,7 @@ fn clause(
                 if !(opens_reference && !function_word && verb_name(&words[0]).is_ok()) {
                     return unclear(Unclear::Unplaced, said(&words));
                 }
-                (words[0].clone(), 1, Vec::new(), words[1..].to_vec(), false)
+                (words[0].clone(), 1, Vec::new(), words[1..].to_vec(), (false, false))
             }
         }
     };
@@ -416,6 +416,9 @@ fn clause(
     }
     // The joiner the human said between two arguments: spoken back, and its relation made true.
     let mut said_joiner = None;
+    // "Hand Bob the knife.": the recipient said first; the object, said last, is what a
+    // narrowing after it narrows.
+    let mut recipient_first = false;
     let spans: Vec<Cow<'_, [String]>> = if arity == 0 {
         // A verb of no arguments ("Wave."): nothing may follow it but what was left out.
         if !rest.is_empty() || !narrowings.is_empty() {
@@ -429,13 +432,20 @@ fn clause(
         let at: Vec<usize> = (1..rest.len().saturating_sub(1))
             .filter(|&i| joiners.contains(&rest[i]))
             .collect();
-        match parting.splits.pick(parting.clause, &at) {
-            Some(i) => {
+        let double = (recipient && at.is_empty())
+            .then(|| recipient_said_first(&rest))
+            .flatten();
+        match (parting.splits.pick(parting.clause, &at), double) {
+            (Some(i), _) => {
                 said_joiner = Some(rest[i].clone());
                 vec![Cow::Borrowed(&rest[..i]), without_commas(&rest[i + 1..])]
             }
+            (None, Some(k)) => {
+                recipient_first = true;
+                vec![without_commas(&rest[k..]), Cow::Borrowed(&rest[..k])]
+            }
             // One argument of a verb that may leave the rest unsaid ("Heat up the soup.").
-            None if leaves && at.is_empty() => vec![Cow::Borrowed(&rest[..])],
+            (None, None) if leaves && at.is_empty() => vec![Cow::Borrowed(&rest[..])],
             // Two arguments and no joiner between them: the words do not say which is which.
             _ => return unclear(Unclear::Unplaced, said(&words)),
         }
@@ -456,7 +466,11 @@ fn clause(
     if arity == 0 {
         steps.push(Vec::new());
     }
-    if let Some(last) = steps.last_mut().and_then(|s| s.last_mut()) {
+    let said_last = match recipient_first {
+        true => steps.last_mut().and_then(|s| s.first_mut()),
+        false => steps.last_mut().and_then(|s| s.last_mut()),
+    };
+    if let Some(last) = said_last {
         for narrowing in narrowings {
             *last = narrowed(std::mem::replace(last, placeholder()), narrowing, lexicon);
         }
@@ -470,6 +484,24 @@ fn clause(
         purposes,
         ignored,
     })
+}
+
+/// Where the object starts after a recipient said first ("Hand Bob the knife.", "Give the
+/// child a cup."): at the first determiner after one short reference (a name, or a determiner
+/// and its nouns) that holds no relation, clause or list; `None` when the words are not so.
+fn recipient_said_first(rest: &[String]) -> Option<usize> {
+    const NOT_IN_A_RECIPIENT: &[&str] = &[
+        "near", "next", "beside", "behind", "left", "right", "front", "below", "above", "between", "that", "which",
+        "who", "but", "except", "than", "not", COMMA,
+    ];
+    let k = (1..rest.len()).find(|&k| DETERMINERS.contains(&rest[k].as_str()))?;
+    let within = |w: &String| {
+        !(FUNCTION_WORDS.contains(&w.as_str())
+            || DETERMINERS.contains(&w.as_str())
+            || NOT_IN_A_RECIPIENT.contains(&w.as_str()))
+    };
+    let opens = usize::from(DETERMINERS.contains(&rest[0].as_str()));
+    (k + 1 < rest.len() && k - opens <= 3 && k > opens && rest[opens..k].iter().all(within)).then_some(k)
 }
 
 /// A phrase that names nothing, held while the one in its place is rebuilt.
