@@ -252,6 +252,7 @@ const FIELD_CONTROLS = [
   ["/options/single_permissible", "single"],
   ["/options/style", "style"],
   ["/options/soft_norms", "soft-norms"],
+  ["/options/alternatives", "alternatives"],
 ];
 const NORM_FIELD_CONTROLS = [
   ["/kind", "norm-kind"],
@@ -789,8 +790,12 @@ function buildRequest() {
       soft_norms: $("soft-norms").value,
     },
   };
+  if ($("alternatives").value) body.options.alternatives = $("alternatives").value;
   return body;
 }
+
+/** The request last sent: taking an offered alternative sends it again with that answer. */
+let lastRequest = null;
 
 /** The paper's expected utterance while the form still holds one of its cases untouched. */
 let expected = null;
@@ -808,6 +813,12 @@ async function clarify(event) {
     showProblem($("clarify-error"), e, FIELD_CONTROLS)?.focus();
     return;
   }
+  await send(request, button);
+}
+
+/** Sends a clarify request and shows its decision, or the problem with it. */
+async function send(request, button) {
+  lastRequest = request;
   button.disabled = true;
   $("decision").replaceChildren(h("p", { class: "hint" }, "Simulating every reading…"));
   try {
@@ -911,6 +922,17 @@ function showDecision(d) {
   if (d.limits) facts.push(["Limits", `${d.limits.reason}: ${d.limits.simulated} of ${d.limits.readings} simulated`]);
   if (d.parse) facts.push(...parseFacts(d.parse));
   facts.push(["Versions", `norms ${d.norm_version}, actions ${d.library_version}`]);
+  // An alternative offered after a refusal: the human may take it, decided afresh.
+  const alternative = d.alternative
+    ? h(
+        "p",
+        { class: "alternative" },
+        "Offered instead: ",
+        h("code", { id: "alternative" }, d.alternative),
+        " ",
+        h("button", { type: "button", id: "take-alternative" }, "Yes, do that instead"),
+      )
+    : null;
   let verdict = null;
   if (expected !== null) {
     verdict =
@@ -927,9 +949,14 @@ function showDecision(d) {
     ),
     h("blockquote", { class: "utterance", id: "utterance" }, h("span", { class: "who" }, "The robot says"), d.utterance),
     verdict,
+    alternative,
     h("dl", { class: "facts" }, facts.map(([k, v]) => [h("dt", {}, k), h("dd", {}, v)])),
   ];
   $("decision").replaceChildren(...parts.filter(Boolean));
+  if (alternative && lastRequest) {
+    const again = { ...lastRequest, answer: { choice: "alternative" } };
+    $("take-alternative").addEventListener("click", () => send(again, $("take-alternative")));
+  }
 
   const offered = new Set(d.offered ?? []);
   const best = bestScore(d);
@@ -1026,6 +1053,7 @@ function applyCase() {
   $("single").value = c.options?.single_permissible ?? "assume";
   $("style").value = "diarc";
   $("soft-norms").value = "rank";
+  $("alternatives").value = c.options?.alternatives ?? "";
   expected = c.expect.utterance;
 }
 

@@ -199,6 +199,29 @@ try {
   await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "comply");
   check((await page.textContent("#decision-kind")) === "comply", "the structured task is done whole too");
 
+  // An alternative after a refusal, in the natural style: shown beside the decision, and
+  // taken with one click ({"choice": "alternative"}), decided afresh.
+  await page.getByLabel("the words only").check();
+  await page.getByLabel("Style", { exact: true }).selectOption("natural");
+  await page.getByLabel("Human's words").fill("Get the fragile vase.");
+  await page.getByLabel("Human's words").press("Enter");
+  await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "refuse");
+  check(
+    (await page.textContent("#alternative")) === "did(self,get(object4))" &&
+      (await page.textContent("#utterance")).endsWith("Shall I get the plastic vase instead?"),
+    "a refusal offers the plastic vase instead",
+    await page.textContent("#utterance"),
+  );
+  await page.getByRole("button", { name: "Yes, do that instead" }).click();
+  await page.waitForFunction(() => document.querySelector("#decision-kind")?.textContent === "comply");
+  const taken = JSON.parse(await page.textContent("#request-json"));
+  check(
+    taken.answer?.choice === "alternative" && (await page.textContent("#decision")).includes("did(self,get(object4))"),
+    "taking it sends the same request with the answer, and the plastic vase is got",
+    JSON.stringify(taken.answer),
+  );
+  await page.getByLabel("Style", { exact: true }).selectOption("diarc");
+
   // People: the household preset draws them, and "Get Bob." is refused as handling a person.
   await page.locator("#preset").selectOption("household");
   await page.getByRole("button", { name: "Load scene" }).click();
