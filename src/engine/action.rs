@@ -432,6 +432,9 @@ pub struct Library {
     costs: std::sync::OnceLock<FxHashMap<(Sym, usize), u64>>,
     /// Every phrase naming a verb, longest first, worked out once on first use.
     phrases: std::sync::OnceLock<Vec<VerbPhrase>>,
+    /// The name and arity of every fact some method makes true, each once, and whether an
+    /// effect is a bare variable; worked out once, as every request's simulation asks.
+    effects: std::sync::OnceLock<(Vec<(Sym, usize)>, bool)>,
 }
 
 /// One phrase that names a verb, in words, with the verb it names.
@@ -458,6 +461,7 @@ impl Library {
         let key = (def.name.clone(), def.params.len());
         self.costs = std::sync::OnceLock::new();
         self.phrases = std::sync::OnceLock::new();
+        self.effects = std::sync::OnceLock::new();
         let previous = self.defs.insert(key.clone(), def);
         if let Some(cycle) = self.cycle_through(&key) {
             match previous {
@@ -645,9 +649,25 @@ impl Library {
         self.defs.get(&(action.name()?.clone(), action.arity()))
     }
 
-    /// Every fact some method makes true, in no order.
-    pub fn adds(&self) -> impl Iterator<Item = &Term> {
-        self.defs.values().flat_map(|def| &def.methods).flat_map(|m| &m.adds)
+    /// The name and arity of every fact some method makes true, each once, in no order; and
+    /// whether some effect is a bare variable (which could be any fact).
+    pub fn effects(&self) -> (&[(Sym, usize)], bool) {
+        let (made, any) = self.effects.get_or_init(|| {
+            let mut made: Vec<(Sym, usize)> = Vec::new();
+            let mut any = false;
+            for fact in self.defs.values().flat_map(|def| &def.methods).flat_map(|m| &m.adds) {
+                match fact.name() {
+                    Some(name) if !fact.is_var() => {
+                        if !made.iter().any(|(n, a)| n == name && *a == fact.arity()) {
+                            made.push((name.clone(), fact.arity()));
+                        }
+                    }
+                    _ => any = true,
+                }
+            }
+            (made, any)
+        });
+        (made, *any)
     }
 
     /// Every verb, by name then arity.

@@ -123,21 +123,16 @@ impl<'a> Env<'a> {
     ) -> Env<'a> {
         // A fact holds in a reading's world only if the scene states it or a step made it true:
         // a verb's effect, or `did(self,step)`. An effect that is a bare variable could be any.
-        let mut made: smallvec::SmallVec<[(&Sym, usize); 8]> = smallvec::smallvec![(&DID.0, 2)];
-        let mut any = false;
         // The relations a joiner said makes true hold too ("put X in Y": `in`).
-        for (_, to) in relations {
-            made.push((to, 2));
-        }
-        for fact in library.adds() {
-            match fact.name() {
-                Some(name) if !fact.is_var() => made.push((name, fact.arity())),
-                _ => any = true,
-            }
-        }
+        let (effects, any) = library.effects();
+        let made = |name: &Sym, arity: usize| {
+            (name == &DID.0 && arity == 2)
+                || relations.iter().any(|(_, to)| to == name && arity == 2)
+                || effects.iter().any(|(n, a)| n == name && *a == arity)
+        };
         let can_hold = |key: &KeyBit| {
             let (name, arity) = key.key();
-            any || base.may_have(key) || made.iter().any(|&(n, a)| n == name && a == *arity)
+            any || base.may_have(key) || made(name, *arity)
         };
         let in_force = norms.in_force(scope, &can_hold);
         Env {

@@ -1,6 +1,7 @@
 //! The schema of the engine's option enums, under the names the published document has always
 //! given them. The values come from each enum's one list and spelling (`Spelled`), which serde
-//! uses too (a test in the engine holds the two together).
+//! uses too (a test in the engine holds the two together). And a follow-up's `choice`, which is
+//! spelled as a position or as a word.
 
 use std::borrow::Cow;
 

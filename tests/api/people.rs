@@ -194,4 +194,22 @@ async fn every_fault_of_a_person_is_named_by_its_field() {
         .unwrap_err();
     assert_eq!(status.code(), tonic::Code::InvalidArgument);
     assert_eq!(status.metadata().get("field").unwrap(), "/scene/people/0/position");
+    // A name with a character that turns the text is echoed escaped, never as sent.
+    let response = app
+        .post(
+            "/v1/clarify",
+            &with(json!({"id": "bob", "names": ["\u{202e}evil"], "position": [0, 0, 0]})),
+        )
+        .await;
+    let problem = assert_problem(
+        response,
+        StatusCode::UNPROCESSABLE_ENTITY,
+        Some("/scene/people/0/names/0"),
+    )
+    .await;
+    let detail = problem["detail"].as_str().unwrap();
+    assert!(
+        detail.contains("\\u{202e}evil") && !detail.contains('\u{202e}'),
+        "{detail}"
+    );
 }

@@ -3,7 +3,7 @@
 //!
 //! Owns: the one spoken form of a name, and what an object's names may be. Must not: know which names exist (the lexicon does).
 
-use crate::engine::input::{Invalid, normalise_phrase};
+use crate::engine::input::{Invalid, escape_unseen, normalise_phrase};
 
 /// Characters that show nothing, yet change what a listener's screen or speech engine makes of
 /// the text around them: control characters, zero-width characters and marks, and the
@@ -94,7 +94,8 @@ pub(super) fn names_of(given: Vec<String>) -> Result<Vec<String>, Invalid> {
         if name.is_empty() || name.len() > 64 || words > 3 || !letters || !starts_with_letter {
             return Err(Invalid::new(
                 format!("/names/{i}"),
-                format!("`{text}` is not a name of 1 to 3 words of letters"),
+                // Echoed so that it shows what was sent and does nothing to the screen.
+                format!("`{}` is not a name of 1 to 3 words of letters", escape_unseen(text)),
             ));
         }
         if !names.contains(&name) {
