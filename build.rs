@@ -1,6 +1,6 @@
 //! Compiles `proto/` with the pure-Rust protox (no `protoc` needed) into tonic/prost code, and
 //! keeps the encoded descriptor set for server reflection. Hands an ordinary release build's
-//! linker the hot path's layout (`link/hot-text.ld`).
+//! linker the hot path's layout (`link/hot-text.ld`). Records the commit built, for `/version`.
 
 use std::path::PathBuf;
 
@@ -15,7 +15,38 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .build_server(true)
         .build_client(true)
         .compile_fds(descriptors)?;
+    commit();
     hot_text()
+}
+
+/// `SCRUPLE_COMMIT` for the crate: `SCRUPLE_BUILD_COMMIT` when the build is given it (an image
+/// built without `.git`), else git's `HEAD` when the source is a checkout; unset otherwise
+/// (`/version` then says `null`). Rebuilt when `HEAD` moves.
+fn commit() {
+    println!("cargo:rerun-if-env-changed=SCRUPLE_BUILD_COMMIT");
+    let git = |args: &[&str]| {
+        let out = std::process::Command::new("git").args(args).output().ok()?;
+        let text = String::from_utf8(out.stdout).ok()?;
+        out.status.success().then(|| text.trim().to_owned())
+    };
+    let given = std::env::var("SCRUPLE_BUILD_COMMIT")
+        .ok()
+        .filter(|c| !c.trim().is_empty());
+    let commit = given.or_else(|| {
+        // HEAD names a branch whose ref file (or the packed refs) moves with each commit.
+        for path in ["HEAD", "packed-refs"] {
+            if let Some(file) = git(&["rev-parse", "--git-path", path]) {
+                println!("cargo:rerun-if-changed={file}");
+            }
+        }
+        if let Some(file) = git(&["symbolic-ref", "-q", "HEAD"]).and_then(|r| git(&["rev-parse", "--git-path", &r])) {
+            println!("cargo:rerun-if-changed={file}");
+        }
+        git(&["rev-parse", "--short=12", "HEAD"])
+    });
+    if let Some(commit) = commit.filter(|c| c.bytes().all(|b| b.is_ascii_alphanumeric())) {
+        println!("cargo:rustc-env=SCRUPLE_COMMIT={commit}");
+    }
 }
 
 /// The functions one request runs, laid out together in the server binary (ARCHITECTURE.md,

@@ -9,6 +9,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use tokio::net::TcpListener;
+use tower::Layer;
+use tower::util::Either;
 
 use crate::core::Core;
 use crate::core::{DEFAULT_LEASE_MS, MAX_LEASE_MS, RequestLimits, Settings};
@@ -18,6 +20,7 @@ use crate::storage::{self, NormStore, StoreError};
 use crate::transport::admission::{self, Admission, AdmissionConfig};
 use crate::transport::auth::{LabelledSecret, Tokens};
 use crate::transport::conn::{self, ConnConfig, Served};
+use crate::transport::cors::CorsOrigins;
 use crate::transport::tls::{Tls, TlsFiles};
 use crate::transport::{AppState, Shared, grpc, observe, rest};
 
@@ -48,6 +51,8 @@ pub struct Config {
     /// How long the stored versions are trusted before they are read again; every write waits
     /// it out before it is acknowledged (see `Settings::lease`).
     pub lease: Duration,
+    /// The browser origins that may call the REST API from a page (`--cors-origin`); none: off.
+    pub cors: Option<CorsOrigins>,
 }
 
 impl Config {
@@ -66,6 +71,7 @@ impl Config {
             tls: None,
             connections: ConnConfig::default(),
             lease: Duration::from_millis(DEFAULT_LEASE_MS),
+            cors: None,
         }
     }
 }
@@ -185,7 +191,7 @@ impl Application {
             })?;
         Ok(Application {
             listener,
-            router: one_port(state, Admission::new(config.admission, metrics)).await?,
+            router: one_port(state, Admission::new(config.admission, metrics), config.cors.as_ref()).await?,
             tls,
             connections: config.connections,
             store,
@@ -226,7 +232,11 @@ impl Application {
 /// axum's `Router::layer` wraps every route in a boxed service each request clones and a boxed
 /// future, and that level cost the paper's request about 1% of its instructions and 3-4% of its
 /// instruction-cache misses (BENCHMARKS.md, twenty-first sitting).
-async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<Served, StartError> {
+async fn one_port(
+    state: AppState,
+    admission: Arc<Admission>,
+    cors: Option<&CorsOrigins>,
+) -> Result<Served, StartError> {
     let observer = observe::Observer::new(
         state.metrics.clone(),
         &grpc::SERVED_DESCRIPTOR_SETS,
@@ -237,8 +247,10 @@ async fn one_port(state: AppState, admission: Arc<Admission>) -> Result<Served, 
         .merge(grpc)
         .fallback(|| async { Error::NoRoute })
         .method_not_allowed_fallback(|| async { Error::MethodNotAllowed });
-    Ok(tower::ServiceBuilder::new()
-        .layer(observe::ObserveLayer::new(observer))
-        .layer(admission::AdmitLayer(admission))
-        .service(router))
+    let admitted = admission::AdmitLayer(admission).layer(router);
+    let browsers = match cors {
+        Some(origins) => Either::Left(origins.layer().layer(admitted)),
+        None => Either::Right(admitted),
+    };
+    Ok(observe::ObserveLayer::new(observer).layer(browsers))
 }

@@ -26,6 +26,7 @@ use scruple::transport::conn::{
     ConnConfig, DEFAULT_BODY_TIMEOUT_MS, DEFAULT_DRAIN_TIMEOUT_MS, DEFAULT_HEADER_TIMEOUT_MS, DEFAULT_IDLE_TIMEOUT_MS,
     DEFAULT_MAX_CONNECTIONS,
 };
+use scruple::transport::cors::CorsOrigins;
 use scruple::transport::logs::Deferred;
 use scruple::transport::tls::TlsFiles;
 use tracing_subscriber::fmt::format::{DefaultFields, JsonFields};
@@ -408,6 +409,16 @@ struct ServeArgs {
     /// The PEM private key of `--tls-cert`.
     #[arg(long, env = "SCRUPLE_TLS_KEY", value_name = "FILE", requires = "tls_cert")]
     tls_key: Option<PathBuf>,
+    /// A browser origin (`https://app.example`, `http://localhost:5173`) whose pages may call the
+    /// REST API (CORS; repeat the flag for more), or `*` for any page (then never with
+    /// credentials). Off by default: browsers refuse cross-origin calls.
+    #[arg(
+        long = "cors-origin",
+        env = "SCRUPLE_CORS_ORIGINS",
+        value_name = "ORIGIN",
+        value_delimiter = ','
+    )]
+    cors_origins: Vec<String>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -469,6 +480,7 @@ impl<S: tracing::Subscriber> Layer<S> for OnEvents {
 impl ServeArgs {
     fn into_config(self) -> Result<Config, String> {
         let limits = self.limits.limits()?;
+        let cors = CorsOrigins::parse(&self.cors_origins)?;
         Ok(Config {
             listen: self.listen,
             database_url: self.database_url,
@@ -484,6 +496,7 @@ impl ServeArgs {
                 queue_timeout: Duration::from_millis(self.queue_timeout_ms),
             },
             log_utterances: self.log_utterances,
+            cors,
             lease: Duration::from_millis(self.versions_lease_ms),
             tls: match (self.tls_cert, self.tls_key) {
                 (Some(cert), Some(key)) => Some(TlsFiles { cert, key }),

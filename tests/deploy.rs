@@ -398,7 +398,17 @@ fn serve(env: &BTreeMap<String, String>, dir: &Path) -> Server {
 
 #[test]
 fn every_scruple_variable_named_under_deploy_is_one_the_binary_reads() {
-    let known = known_env();
+    let mut known = known_env();
+    // And those the build reads (`build.rs` declares each), which an image build passes in.
+    let build = read(&repo().join("build.rs"));
+    for declared in build.split("rerun-if-env-changed=").skip(1) {
+        known.insert(
+            declared
+                .chars()
+                .take_while(|c| c.is_ascii_uppercase() || *c == '_')
+                .collect(),
+        );
+    }
     let mut unknown = Vec::new();
     let mut checked = 0;
     for path in files_under(&repo().join("deploy")) {
@@ -475,7 +485,7 @@ fn one_port_from_listen_through_expose_the_container_the_service_and_the_probes(
         );
     }
 
-    for probe in ["readinessProbe", "startupProbe"] {
+    for probe in ["readinessProbe", "startupProbe", "livenessProbe"] {
         let target = &container[probe]["httpGet"]["port"];
         if !target.is_null() {
             assert_eq!(
@@ -486,14 +496,6 @@ fn one_port_from_listen_through_expose_the_container_the_service_and_the_probes(
             );
         }
     }
-    // Kubernetes' gRPC probe takes a number only, so it is checked against the port itself.
-    let grpc = as_u64(&container["livenessProbe"]["grpc"]["port"], "livenessProbe.grpc.port");
-    assert_eq!(
-        grpc,
-        u64::from(port),
-        "{}: the gRPC liveness probe calls port {grpc}, but the service listens on {port}",
-        deployment.what()
-    );
 }
 
 #[tokio::test]
@@ -501,24 +503,21 @@ async fn the_probes_answer_on_the_real_binary_run_with_the_deployed_settings() {
     let objects = kustomized();
     let deployment = the(&objects, "Deployment");
     let container = container(deployment);
-    let readiness = container["readinessProbe"]["httpGet"]["path"]
-        .as_str()
-        .unwrap_or_else(|| {
-            panic!(
-                "{}: the readiness probe is not an httpGet with a path",
-                deployment.what()
-            )
-        });
-    assert_eq!(readiness, "/healthz", "{}: readiness probe path", deployment.what());
-    let liveness = &container["livenessProbe"]["grpc"];
-    assert!(
-        liveness.is_mapping(),
-        "{}: the liveness probe should be Kubernetes' gRPC probe, is {:?}",
-        deployment.what(),
-        container["livenessProbe"]
-    );
-    // Kubernetes sends the probe's `service` (empty when unset) to grpc.health.v1.Health/Check.
-    let service = liveness["service"].as_str().unwrap_or("").to_owned();
+    let path = |probe: &str| {
+        container[probe]["httpGet"]["path"]
+            .as_str()
+            .unwrap_or_else(|| panic!("{}: {probe} is not an httpGet with a path", deployment.what()))
+            .to_owned()
+    };
+    // Readiness follows the store; liveness only the process (a restart mends no store outage).
+    let probes = [
+        ("startupProbe", "/readyz"),
+        ("readinessProbe", "/readyz"),
+        ("livenessProbe", "/livez"),
+    ];
+    for (probe, expected) in probes {
+        assert_eq!(path(probe), expected, "{}: {probe} path", deployment.what());
+    }
 
     // Everything the pod gets from its ConfigMap and Secret, so a value the binary refuses fails here.
     let mut env = BTreeMap::new();
@@ -541,31 +540,15 @@ async fn the_probes_answer_on_the_real_binary_run_with_the_deployed_settings() {
     let dir = tempfile::tempdir().unwrap();
     let server = serve(&env, dir.path());
 
-    let url = format!("http://{}{readiness}", server.addr);
-    let response = support::http_client()
-        .get(&url)
-        .send()
-        .await
-        .expect("the readiness path answers");
-    assert_eq!(response.status(), reqwest::StatusCode::OK, "GET {url}");
-
-    let channel = tonic::transport::Channel::from_shared(format!("http://{}", server.addr))
-        .unwrap()
-        .connect()
-        .await
-        .expect("gRPC connects to the same port");
-    let answer = tonic_health::pb::health_client::HealthClient::new(channel)
-        .check(tonic_health::pb::HealthCheckRequest {
-            service: service.clone(),
-        })
-        .await
-        .unwrap_or_else(|status| panic!("grpc.health.v1.Health/Check({service:?}): {status}"))
-        .into_inner();
-    assert_eq!(
-        answer.status(),
-        tonic_health::pb::health_check_response::ServingStatus::Serving,
-        "grpc.health.v1.Health/Check({service:?})"
-    );
+    for (probe, _) in probes {
+        let url = format!("http://{}{}", server.addr, path(probe));
+        let response = support::http_client()
+            .get(&url)
+            .send()
+            .await
+            .unwrap_or_else(|e| panic!("{probe}: GET {url}: {e}"));
+        assert_eq!(response.status(), reqwest::StatusCode::OK, "{probe}: GET {url}");
+    }
 }
 
 #[test]

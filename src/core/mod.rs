@@ -23,7 +23,7 @@ use crate::engine::decision::Decision;
 pub use crate::engine::input::{
     DEFAULT_DEADLINE_MS, DEFAULT_MAX_DEADLINE_MS, DEFAULT_MAX_OBJECTS, DEFAULT_MAX_TEXT_BYTES, RequestLimits,
 };
-use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSpec, Scope};
+use crate::engine::norms::{CompiledNorms, MAX_NORM_ID, Norm, NormInput, NormSetMode, NormSpec, Scope};
 use crate::engine::request::{Answer, Checked, Directive, Request, RequestInput};
 use crate::engine::resolve::Reference;
 use crate::engine::scene::Scene;
@@ -276,6 +276,11 @@ impl Core {
     }
 
     /// The store, for curation; a core over fixed knowledge has none.
+    /// The newest migration of the store's schema this build applies.
+    pub fn schema_version(&self) -> Result<i64, Error> {
+        Ok(self.store()?.schema_version())
+    }
+
     fn store(&self) -> Result<&dyn NormStore, Error> {
         match &self.source {
             Source::Store(store) => Ok(store.as_ref()),
@@ -459,18 +464,20 @@ impl Core {
         Ok(self.store()?.load().await?)
     }
 
-    /// Replaces the whole norm set in one transaction when `expected` is the set's version (or
-    /// always without one). Every norm is validated first (errors point into `/norms/i`); ids
-    /// given are kept (a restored backup keeps its ids) and must be distinct and positive; norms
-    /// without one get fresh ids, never used before.
+    /// Imports a norm set in one transaction when `expected` is the set's version (or always
+    /// without one): as the whole set, or merged over the stored one (`mode`). Every norm is
+    /// validated first (errors point into `/norms/i`); ids given are kept (a restored backup
+    /// keeps its ids) and must be distinct and positive; norms without one get fresh ids, never
+    /// used before.
     pub async fn import_norms(
         &self,
         inputs: Vec<(Option<i64>, NormInput)>,
+        mode: NormSetMode,
         expected: Option<i64>,
         actor: &str,
     ) -> Result<(i64, Vec<Norm>), Error> {
         let norms = validate_norm_set(inputs)?;
-        let write = self.store()?.import(&norms, expected, actor).await?;
+        let write = self.store()?.import(&norms, mode, expected, actor).await?;
         match self.settled_write(write).await {
             Write::Done(set) => Ok(set),
             Write::Missing => Err(Error::Internal("the norm set row is missing".to_owned())),

@@ -237,6 +237,7 @@ mod tests {
         one_spelling::<SinglePermissible>();
         one_spelling::<Style>();
         one_spelling::<SoftNorms>();
+        one_spelling::<crate::engine::norms::NormSetMode>();
         assert_eq!(Strategy::expected(), "`moral` or `reflexive`");
     }
 }

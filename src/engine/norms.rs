@@ -99,6 +99,28 @@ impl Spelled for NormKind {
     }
 }
 
+/// How an imported norm set meets the stored one: `replace` makes it the whole set; `merge`
+/// replaces the norms it names by id, adds those without one, and keeps every other norm (and
+/// its revision) as it was.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NormSetMode {
+    #[default]
+    Replace,
+    Merge,
+}
+
+impl Spelled for NormSetMode {
+    const ALL: &'static [NormSetMode] = &[NormSetMode::Replace, NormSetMode::Merge];
+
+    fn as_str(self) -> &'static str {
+        match self {
+            NormSetMode::Replace => "replace",
+            NormSetMode::Merge => "merge",
+        }
+    }
+}
+
 /// The kinds as an error lists them: "forbidden_action, forbidden_state, ...".
 fn kinds_listed() -> String {
     NormKind::ALL.iter().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")

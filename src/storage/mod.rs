@@ -20,7 +20,7 @@ mod sqlite;
 use async_trait::async_trait;
 
 use crate::engine::action::ActionInput;
-use crate::engine::norms::{Norm, NormSpec};
+use crate::engine::norms::{Norm, NormSetMode, NormSpec};
 
 pub use postgres::PostgresStore;
 pub use sql::SqlStore;
@@ -197,11 +197,14 @@ pub trait NormStore: Send + Sync + 'static {
     ) -> Result<Write<Norm>, StoreError>;
     /// Removes a norm when its revision is `expected` (or always, with `None`).
     async fn delete(&self, id: i64, expected: Option<i64>, actor: &str) -> Result<Write<()>, StoreError>;
-    /// Replaces the whole norm set with `norms` (ids kept) in one transaction, when the set's
-    /// version is `expected` (or always, with `None`); returns the new set as `load` would.
+    /// Imports `norms` (ids kept) in one transaction, when the set's version is `expected` (or
+    /// always, with `None`): as the whole set (`Replace`), or over it (`Merge`: the norms named
+    /// by id are replaced, the others kept with their revisions); returns the new set as `load`
+    /// would.
     async fn import(
         &self,
         norms: &[(Option<i64>, NormSpec)],
+        mode: NormSetMode,
         expected: Option<i64>,
         actor: &str,
     ) -> Result<Write<(i64, Vec<Norm>)>, StoreError>;
@@ -209,6 +212,8 @@ pub trait NormStore: Send + Sync + 'static {
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError>;
     /// Whether the store is open, migrated and readable.
     async fn ping(&self) -> Result<(), StoreError>;
+    /// The newest migration this build applies to its kind of store (and found applied at start).
+    fn schema_version(&self) -> i64;
 
     /// Records that a process serving this store trusts the stored versions it reads for
     /// `lease` (its `--versions-lease-ms`); `holder` names the process for an operator. Made

@@ -18,6 +18,9 @@ use crate::engine::norms::{Norm, NormSpec};
 /// The norm store on PostgreSQL.
 pub type PostgresStore = SqlStore<PostgresBackend>;
 
+/// The PostgreSQL schema's migrations, compiled in.
+static MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("./migrations/postgres");
+
 #[derive(Clone, Debug)]
 pub struct PostgresBackend {
     pool: PgPool,
@@ -57,7 +60,7 @@ impl PostgresStore {
     }
 
     async fn migrated(pool: PgPool) -> Result<PostgresStore, StoreError> {
-        sqlx::migrate!("./migrations/postgres")
+        MIGRATOR
             .run(&pool)
             .await
             .map_err(|e| StoreError::new(format!("migrations: {e}")))?;
@@ -225,6 +228,10 @@ impl Tx for PostgresTx {
 
 #[async_trait]
 impl Backend for PostgresBackend {
+    fn migrator(&self) -> &'static sqlx::migrate::Migrator {
+        &MIGRATOR
+    }
+
     type Tx = PostgresTx;
 
     fn still_there(&self) -> Result<(), StoreError> {

@@ -10,7 +10,7 @@ use async_trait::async_trait;
 use super::{Accept, AuditEntry, NormStore, Operation, StoreError, StoredAction, Subject, Versions, Write};
 use crate::engine::action::ActionInput;
 use crate::engine::input::Spelled;
-use crate::engine::norms::{Norm, NormInput, NormKind, NormSpec};
+use crate::engine::norms::{Norm, NormInput, NormKind, NormSetMode, NormSpec};
 use crate::engine::term::Term;
 
 /// Which set's version a write moves.
@@ -268,6 +268,8 @@ pub trait Backend: Send + Sync + 'static {
     async fn audit(&self, after: i64, limit: i64) -> Result<Vec<AuditEntry>, StoreError>;
     /// The longest lease recorded, in milliseconds (0 when none is).
     async fn longest_lease_ms(&self) -> Result<i64, StoreError>;
+    /// The migrations this build applies to the backend, oldest first.
+    fn migrator(&self) -> &'static sqlx::migrate::Migrator;
 }
 
 /// A norm store on a SQL backend.
@@ -405,6 +407,7 @@ impl<B: Backend> NormStore for SqlStore<B> {
     async fn import(
         &self,
         norms: &[(Option<i64>, NormSpec)],
+        mode: NormSetMode,
         expected: Option<i64>,
         actor: &str,
     ) -> Result<Write<(i64, Vec<Norm>)>, StoreError> {
@@ -414,7 +417,13 @@ impl<B: Backend> NormStore for SqlStore<B> {
             return abandon(tx, Write::Stale { current }).await;
         }
         let before = tx.norms().await?;
-        tx.delete_norms(None).await?;
+        match mode {
+            NormSetMode::Replace => tx.delete_norms(None).await?,
+            // Nothing to merge changes nothing: no new version, no audit entry.
+            NormSetMode::Merge if norms.is_empty() => return abandon(tx, Write::Done((current, before))).await,
+            // Each norm named by id is replaced by the upsert below; the rest stay as stored.
+            NormSetMode::Merge => {}
+        }
         let version = tx.bump(Set::Norms).await?;
         // Given ids first: a fresh id is then above every one of them, and never collides.
         let (given, fresh): (Vec<_>, Vec<_>) = norms.iter().partition(|(id, _)| id.is_some());
@@ -447,6 +456,10 @@ impl<B: Backend> NormStore for SqlStore<B> {
 
     async fn ping(&self) -> Result<(), StoreError> {
         self.versions().await.map(|_| ())
+    }
+
+    fn schema_version(&self) -> i64 {
+        self.backend.migrator().iter().map(|m| m.version).max().unwrap_or(0)
     }
 
     async fn hold_lease(&self, lease: std::time::Duration, holder: &str) -> Result<i64, StoreError> {

@@ -101,12 +101,15 @@ async fn migrate(pool: &SqlitePool, path: &Path) -> Result<(), StoreError> {
     // `run_direct` is `run` on a connection already in hand: `run`'s `Acquire` bound on a
     // borrowed transaction keeps the compiler from proving `Send` the future of every task
     // that opens a store (sqlx keeps `run_direct` public for that).
-    sqlx::migrate!("./migrations/sqlite")
+    MIGRATOR
         .run_direct(None, &mut *locked, false)
         .await
         .map_err(|e| StoreError::new(format!("{}: migrations: {e}", path.display())))?;
     Ok(locked.commit().await?)
 }
+
+/// The SQLite schema's migrations, compiled in.
+static MIGRATOR: sqlx::migrate::Migrator = sqlx::migrate!("./migrations/sqlite");
 
 /// SQLite's `SQLITE_BUSY` and its extended codes: another connection holds the lock wanted.
 fn is_busy(e: &sqlx::Error) -> bool {
@@ -279,6 +282,10 @@ impl SqliteBackend {
 
 #[async_trait]
 impl Backend for SqliteBackend {
+    fn migrator(&self) -> &'static sqlx::migrate::Migrator {
+        &MIGRATOR
+    }
+
     type Tx = SqliteTx;
 
     fn still_there(&self) -> Result<(), StoreError> {

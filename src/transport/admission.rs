@@ -69,7 +69,7 @@ impl Admission {
 /// Probes (and scrapes) answer whatever the load: a liveness check that queues behind work would
 /// restart a healthy, busy replica, and an overload is when metrics matter most.
 fn is_probe(path: &str) -> bool {
-    path == "/healthz" || path == "/metrics" || path.starts_with("/grpc.health.v1.Health/")
+    matches!(path, "/healthz" | "/livez" | "/readyz" | "/metrics") || path.starts_with("/grpc.health.v1.Health/")
 }
 
 /// Decrements the waiting count however the wait ends (a turn, a timeout, a dropped request).

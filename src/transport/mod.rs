@@ -6,6 +6,7 @@
 pub mod admission;
 pub mod auth;
 pub mod conn;
+pub mod cors;
 pub mod grpc;
 pub mod logs;
 pub mod observe;

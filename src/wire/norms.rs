@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use crate::engine::input::Spelled;
-use crate::engine::norms::{Norm, NormInput};
+use crate::engine::norms::{Norm, NormInput, NormSetMode};
 use crate::engine::term::Term;
 
 /// A norm as a curator sends it. Unknown members are refused: a misspelt `when` must not
@@ -110,6 +110,8 @@ pub struct NormSetBody {
     /// Informational; the precondition goes in `If-Match`. None for a list.
     pub version: Option<i64>,
     pub norms: Vec<NormBody>,
+    /// Replace (default) or merge; a plain list replaces.
+    pub mode: NormSetMode,
     /// Whether the body was a plain list: the pointer of its `i`-th norm is then `/i`, not
     /// `/norms/i`.
     #[serde(skip)]
@@ -126,6 +128,11 @@ pub struct NormSetObject {
     /// Informational (an export carries it); the precondition goes in `If-Match`.
     pub version: Option<i64>,
     pub norms: Vec<NormBody>,
+    /// `replace` (the default): these norms become the whole set. `merge`: each norm with an id
+    /// replaces the stored norm of that id (or is added with it), each without one is added with
+    /// a fresh id, and every stored norm not named is kept as it was (its revision too); merging
+    /// no norms changes nothing.
+    pub mode: Option<NormSetMode>,
 }
 
 // The schema of what `NormSetBody` reads, for the API's document only.
@@ -157,6 +164,7 @@ impl<'de> Deserialize<'de> for NormSetBody {
                 Ok(NormSetBody {
                     version: set.version,
                     norms: set.norms,
+                    mode: set.mode.unwrap_or_default(),
                     listed: false,
                 })
             }
@@ -166,6 +174,7 @@ impl<'de> Deserialize<'de> for NormSetBody {
                 Ok(NormSetBody {
                     version: None,
                     norms,
+                    mode: NormSetMode::Replace,
                     listed: true,
                 })
             }

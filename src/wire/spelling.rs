@@ -11,6 +11,7 @@ use utoipa::{PartialSchema, ToSchema};
 
 use crate::engine::decision::Style;
 use crate::engine::input::Spelled;
+use crate::engine::norms::NormSetMode;
 use crate::engine::request::{Alternatives, SinglePermissible, SoftNorms, Strategy};
 
 /// A string that is one of the enum's words.
@@ -42,6 +43,7 @@ spelled_schema!(SinglePermissible, "SinglePermissibleBody");
 spelled_schema!(Style, "StyleBody");
 spelled_schema!(SoftNorms, "SoftNormsBody");
 spelled_schema!(Alternatives, "AlternativesBody");
+spelled_schema!(NormSetMode, "NormSetMode");
 
 /// A follow-up's `choice`: a position, from 0, among the readings the question named, or
 /// `"alternative"`: the alternative a refusal offered.

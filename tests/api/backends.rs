@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use scruple::engine::action::ActionInput;
-use scruple::engine::norms::{NormInput, NormSpec};
+use scruple::engine::norms::{NormInput, NormSetMode, NormSpec};
 use scruple::error::Error;
 use scruple::storage::{NormStore, PostgresStore, SqliteStore, StoredAction, Write};
 use sqlx::Connection;
@@ -225,7 +225,7 @@ on_both_backends!(
         store.create(&noted("old"), "alice").await.unwrap();
         let current = store.versions().await.unwrap().norms;
         let stale = store
-            .import(&[(None, noted("new"))], Some(current + 5), "bob")
+            .import(&[(None, noted("new"))], NormSetMode::Replace, Some(current + 5), "bob")
             .await
             .unwrap();
         assert_eq!(stale, Write::Stale { current });
@@ -234,7 +234,11 @@ on_both_backends!(
             (Some(40), noted("forty")),
             (Some(7), noted("seven")),
         ];
-        let Write::Done((version, after)) = store.import(&norms, Some(current), "bob").await.unwrap() else {
+        let Write::Done((version, after)) = store
+            .import(&norms, NormSetMode::Replace, Some(current), "bob")
+            .await
+            .unwrap()
+        else {
             panic!("the import was refused")
         };
         let ids: Vec<(i64, &str)> = after.iter().map(|n| (n.id, n.spec.note.as_deref().unwrap())).collect();
@@ -245,13 +249,44 @@ on_both_backends!(
     }
 );
 
+on_both_backends!(
+    a_merge_replaces_the_norms_it_names_and_keeps_the_rest_with_their_revisions,
+    |store: Arc<dyn NormStore>| async move {
+        let kept = store.create(&noted("kept"), "alice").await.unwrap();
+        let named = store.create(&noted("named"), "alice").await.unwrap();
+        let norms = [
+            (Some(named.id), noted("renamed")),
+            (None, noted("fresh")),
+            (Some(90), noted("ninety")),
+        ];
+        let Write::Done((version, after)) = store.import(&norms, NormSetMode::Merge, None, "bob").await.unwrap() else {
+            panic!("the merge was refused")
+        };
+        let notes: Vec<(i64, &str)> = after.iter().map(|n| (n.id, n.spec.note.as_deref().unwrap())).collect();
+        assert_eq!(
+            notes,
+            vec![(kept.id, "kept"), (named.id, "renamed"), (90, "ninety"), (91, "fresh")]
+        );
+        assert_eq!(after[0], kept, "a norm not named keeps its revision");
+        assert!(after[1..].iter().all(|n| n.revision == version));
+        let Write::Done((same, unchanged)) = store.import(&[], NormSetMode::Merge, None, "bob").await.unwrap() else {
+            panic!("the empty merge was refused")
+        };
+        assert_eq!((same, &unchanged), (version, &after), "merging nothing changes nothing");
+        assert_eq!(store.load().await.unwrap(), (version, after));
+    }
+);
+
 on_both_backends!(every_change_is_audited_in_order_with_its_actor, |store: Arc<
     dyn NormStore,
 >| async move {
     let norm = store.create(&noted("a"), "alice").await.unwrap();
     store.replace(norm.id, &noted("b"), None, "bob").await.unwrap();
     store.delete(norm.id, None, "carol").await.unwrap();
-    store.import(&[(None, noted("c"))], None, "dave").await.unwrap();
+    store
+        .import(&[(None, noted("c"))], NormSetMode::Replace, None, "dave")
+        .await
+        .unwrap();
     let entries = store.audit(0, 100).await.unwrap();
     let summary: Vec<(&str, &str, &str)> = entries
         .iter()

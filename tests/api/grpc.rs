@@ -641,6 +641,7 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
             }],
             expected_version: Some(exported.version),
             clear: false,
+            mode: None,
         })
         .await
         .unwrap()
@@ -651,6 +652,7 @@ async fn replace_export_import_and_audit_over_grpc_match_rest() {
             norms: vec![],
             expected_version: Some(exported.version),
             clear: true,
+            mode: None,
         })
         .await
         .unwrap_err();
@@ -700,6 +702,7 @@ async fn an_empty_import_over_grpc_is_refused_unless_it_says_clear() {
             }],
             expected_version: None,
             clear: true,
+            mode: None,
         })
         .await
         .unwrap_err();

@@ -33,4 +33,5 @@ mod soft;
 mod support;
 mod tasks;
 mod tls;
+mod web;
 mod words;

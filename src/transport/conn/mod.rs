@@ -35,6 +35,8 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{OwnedSemaphorePermit, Semaphore, watch};
 use tokio::task::JoinSet;
 use tower::ServiceExt;
+use tower::util::Either;
+use tower_http::cors::Cors;
 
 use crate::transport::admission::Admit;
 use crate::transport::observe::Observe;
@@ -111,8 +113,10 @@ impl ConnConfig {
     }
 }
 
-/// What every request is given to: the router, inside the observing and admission layers.
-pub type Served = Observe<Admit<axum::Router>>;
+/// What every request is given to: the router, inside the observing and admission layers, and
+/// between them the browsers' cross-origin layer when `--cors-origin` is set (preflights are
+/// answered there, never queued).
+pub type Served = Observe<Either<Cors<Admit<axum::Router>>, Admit<axum::Router>>>;
 
 /// What every connection task shares.
 struct Shared {

@@ -30,7 +30,7 @@ fn fixed<const N: usize>(field: impl FnOnce() -> String, values: Vec<f64>) -> Re
 }
 
 /// One of an option's words, spelled as the engine spells it.
-fn word<T: Spelled>(field: &str, value: Option<String>) -> Result<Option<T>, Error> {
+pub(super) fn word<T: Spelled>(field: &str, value: Option<String>) -> Result<Option<T>, Error> {
     value
         .map(|text| {
             T::parse(&text)

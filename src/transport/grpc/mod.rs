@@ -9,7 +9,9 @@ mod convert;
 
 use tonic::{Request, Response, Status};
 
+use self::convert::word;
 use crate::engine::action::ActionInput;
+use crate::engine::norms::NormSetMode;
 use crate::error::Error;
 use crate::transport::auth::Access;
 use crate::transport::{AppState, Arrival};
@@ -167,9 +169,15 @@ impl Norms for NormsService {
     async fn import_norms(&self, request: Request<pb::ImportNormsRequest>) -> Result<Response<pb::NormSet>, Status> {
         let actor = authorize(&self.state, &request, Access::Write)?;
         let request = request.into_inner();
+        let mode = word::<NormSetMode>("/mode", request.mode)?.unwrap_or_default();
+        if mode == NormSetMode::Merge && request.clear {
+            return Err(
+                Error::invalid("/clear", "`clear` empties the set: a merge keeps what it does not name").into(),
+            );
+        }
         // REST refuses a body without `norms`; proto3 sends no list as an empty one, so only an
-        // explicit `clear` may empty the norm set.
-        if request.norms.is_empty() && !request.clear {
+        // explicit `clear` may empty the norm set (a merge of nothing empties nothing).
+        if request.norms.is_empty() && !request.clear && mode == NormSetMode::Replace {
             return Err(Error::invalid(
                 "/norms",
                 "an import with no norms would remove every norm: set `clear: true` to do that",
@@ -189,7 +197,7 @@ impl Norms for NormsService {
             })
             .collect::<Result<_, Error>>()?;
         let (version, norms) = (self.state.core)
-            .import_norms(inputs, request.expected_version, &actor)
+            .import_norms(inputs, mode, request.expected_version, &actor)
             .await?;
         Ok(Response::new(norm_set(version, &norms)))
     }

@@ -43,7 +43,13 @@ impl Modify for BearerToken {
 #[derive(Serialize, ToSchema)]
 pub struct Health {
     /// Always `ok` when the status is 200.
-    pub status: String,
+    pub status: &'static str,
+}
+
+impl Health {
+    pub fn ok() -> Health {
+        Health { status: "ok" }
+    }
 }
 
 /// The paper's "Get the vase." request.

@@ -29,13 +29,18 @@ use crate::wire::{
 mod coding;
 mod doc;
 mod playground;
+mod service;
 
 /// Every REST route, each registered with its OpenAPI operation: a route cannot be added here
 /// without documenting it, and `tests/api/openapi.rs` fails if anything is routed another way.
 fn routes() -> OpenApiRouter<AppState> {
     OpenApiRouter::with_openapi(doc::ApiDoc::openapi())
-        .routes(routes!(healthz))
-        .routes(routes!(metrics))
+        .routes(routes!(service::healthz))
+        .routes(routes!(service::livez))
+        .routes(routes!(service::readyz))
+        .routes(routes!(service::version))
+        .routes(routes!(service::openapi_json))
+        .routes(routes!(service::metrics))
         .routes(routes!(list_norms, create_norm))
         .routes(routes!(get_norm, replace_norm, delete_norm))
         .routes(routes!(export_norms, import_norms))
@@ -242,29 +247,6 @@ fn norm_id(text: &str) -> Result<i64, Error> {
     })
 }
 
-#[utoipa::path(get, path = "/healthz", tag = "service",
-    summary = "Readiness: a decision can be made (the last read of the norms and verbs succeeded)",
-    description = "Reports the outcome of the last read of what a decision needs, by a request or by a probe at most a second old; it never reads the store itself, so it answers at once under any load.",
-    responses(
-        (status = 200, description = "Ready", body = doc::Health, example = json!({"status": "ok"})),
-        doc::problems::Store,
-    ))]
-async fn healthz(State(app): State<AppState>) -> Result<Json<serde_json::Value>, Error> {
-    app.core.readiness()?;
-    Ok(Json(serde_json::json!({"status": "ok"})))
-}
-
-#[utoipa::path(get, path = "/metrics", tag = "service",
-    summary = "Prometheus metrics (OpenMetrics text)",
-    description = "Requests by route template and status, latency histograms, decisions by kind, readings simulated per decision, norm-cache hits and refreshes, admission refusals. Never queued behind load.",
-    responses(
-        (status = 200, description = "The metrics", body = String, content_type = "application/openmetrics-text"),
-    ))]
-async fn metrics(State(app): State<AppState>) -> Response {
-    let content_type = HeaderValue::from_static("application/openmetrics-text; version=1.0.0; charset=utf-8");
-    ([(header::CONTENT_TYPE, content_type)], app.metrics.render()).into_response()
-}
-
 #[utoipa::path(get, path = "/v1/norms", tag = "norms",
     summary = "Every norm, by ascending id",
     security((), ("token" = [])),
@@ -400,8 +382,8 @@ async fn export_norms(State(app): State<AppState>, _: Reader) -> Result<Response
 }
 
 #[utoipa::path(put, path = "/v1/norm-set", tag = "norms",
-    summary = "Import a whole norm set, replacing every norm in one transaction",
-    description = "Takes what GET /v1/norm-set gives, or a plain list of norms (the offline CLI's norms file), taken as the set's `norms`. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
+    summary = "Import a norm set in one transaction: as the whole set, or merged over the stored one",
+    description = "Takes what GET /v1/norm-set gives, or a plain list of norms (the offline CLI's norms file), taken as the set's `norms`. Every norm is validated before anything changes; ids given are kept, norms without one get fresh ids. `mode: \"replace\"` (the default; a plain list always replaces) makes these norms the whole set; `mode: \"merge\"` replaces only the norms named by id, adds the rest, and keeps every other stored norm and its revision (merging no norms changes nothing). With `If-Match` (the set's ETag) the import happens only if the set has not changed since.",
     params(("if-match" = Option<String>, Header, description = "The norm-set version expected, as an ETag")),
     request_body(content = NormSetImportSchema, example = json!({"norms": [{"id": 1, "kind": "forbidden_state", "state": "did(self,get(object3))"}]})),
     security((), ("token" = [])),
@@ -423,7 +405,7 @@ async fn import_norms(
     let current = async { Ok(app.core.export_norms().await?.0) };
     let expected = if_match.expected(|| "the norm set".to_owned(), current).await?;
     let inputs = body.norms.into_iter().map(|n| (n.id, n.into_input())).collect();
-    let imported = app.core.import_norms(inputs, expected, &actor).await;
+    let imported = app.core.import_norms(inputs, body.mode, expected, &actor).await;
     // Core points into a set's `norms`; a list sent bare is pointed into as it was sent.
     let (version, norms) = imported.map_err(|e| match e {
         Error::Invalid { field, detail } if body.listed => Error::Invalid {
