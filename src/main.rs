@@ -171,6 +171,27 @@ struct ReplayArgs {
     /// The norms in force, for `--diff`, as a norms file.
     #[arg(long, value_name = "FILE", requires = "diff")]
     baseline_norms: Option<PathBuf>,
+    /// Decide every line once under each of these conditions, comma-separated, in this order:
+    /// `moral` and `reflexive` (the request's `options.strategy`) or the conditions of
+    /// `--conditions-file`. The summary (decisions per condition, agreement between them, the
+    /// lines whose decisions differ) then goes to stderr, and `--out` holds each line's answers
+    /// under each condition, in turn. A line may not name its own condition then.
+    #[arg(long, value_name = "NAMES", conflicts_with = "diff")]
+    conditions: Option<String>,
+    /// The conditions an experiment may name: a JSON object, condition → the request `options`
+    /// it sets over each line's (`{"moral": {"strategy": "moral"}, "terse": {"strategy":
+    /// "moral", "style": "natural", "max_spoken": 1}}`). Without `--conditions`, every condition
+    /// it defines, in its order.
+    #[arg(long, value_name = "FILE", conflicts_with = "diff")]
+    conditions_file: Option<PathBuf>,
+    /// The scene of every line that has none (a clarify body's `scene`), so a file of directives
+    /// need not repeat it.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// Write the experiment as one self-contained HTML page: a chart of decisions by condition,
+    /// the counts, the agreement, and the lines whose decisions differ. Needs conditions.
+    #[arg(long, value_name = "FILE")]
+    report: Option<PathBuf>,
     #[command(flatten)]
     limits: LimitArgs,
 }
@@ -192,17 +213,20 @@ async fn clarify_command(args: ClarifyArgs) -> Result<(), Failure> {
 struct Replayed {
     summary: Summary,
     answers: Vec<Vec<offline::Answer>>,
+    /// With conditions: how their decisions compare.
+    comparison: offline::Comparison,
 }
 
-/// Runs a replay under each of `knowledge` in one pass over the input, with a counter on stderr
-/// when a person is watching. Each answer under the first is written to `out` (a file, by its
-/// path) as a JSON line, in line order, while later lines are still being decided; the answers
-/// are kept only when `keep`. Fails with the first error reading the input or writing `out`
+/// Runs a replay under each of the setup's knowledge (or conditions) in one pass over the input,
+/// with a counter on stderr when a person is watching. Each answer under the first knowledge
+/// (under conditions, each line's answer under each condition in turn) is written to `out` (a
+/// file, by its path) as a JSON line, in line order, while later lines are still being decided;
+/// the answers are kept only when `keep`. Fails with the first error reading the input or writing `out`
 /// (the replay still runs to its end, so the failure comes with nothing half-decided).
 fn replay_with_progress(
     lines: &mut offline::Lines,
     file: &Path,
-    knowledge: &[offline::Knowledge],
+    setup: &offline::Setup,
     limits: &offline::Limits,
     mut out: Option<(&Path, &mut dyn Write)>,
     keep: bool,
@@ -216,20 +240,40 @@ fn replay_with_progress(
         }
     };
     let writing = out.is_some();
-    // On the worker that decided them: the lines' counts, their JSON and (when kept) themselves.
+    let compared = !setup.conditions.is_empty();
+    // On the worker that decided them: the lines' counts, their JSON and (when kept) themselves;
+    // under conditions, every condition's answers (line by line, each condition in turn) and
+    // how they compare.
     let each = |answers: Vec<Vec<offline::Answer>>| {
-        let first = answers.first().map_or(&[][..], Vec::as_slice);
-        let summary = Summary::of(first);
-        let text = writing.then(|| offline::jsonl(first));
-        (summary, text, if keep { answers } else { Vec::new() })
+        let (summary, text, comparison) = if compared {
+            let lines = answers.first().map_or(0, Vec::len);
+            let interleaved: Vec<offline::Answer> = (0..lines)
+                .flat_map(|l| answers.iter().map(move |arm| arm[l].clone()))
+                .collect();
+            let text = writing.then(|| offline::jsonl(&interleaved));
+            (Summary::of(&interleaved), text, offline::Comparison::of(&answers))
+        } else {
+            let first = answers.first().map_or(&[][..], Vec::as_slice);
+            let text = writing.then(|| offline::jsonl(first));
+            (Summary::of(first), text, offline::Comparison::default())
+        };
+        (summary, text, if keep { answers } else { Vec::new() }, comparison)
+    };
+    let arms = if compared {
+        setup.conditions.len()
+    } else {
+        setup.knowledge.len()
     };
     let mut replayed = Replayed {
         summary: Summary::default(),
-        answers: knowledge.iter().map(|_| Vec::new()).collect(),
+        answers: (0..arms).map(|_| Vec::new()).collect(),
+        comparison: offline::Comparison::default(),
     };
     let mut failed = None;
-    let mut then = |(summary, text, answers): (Summary, Option<String>, Vec<Vec<offline::Answer>>)| {
+    type Made = (Summary, Option<String>, Vec<Vec<offline::Answer>>, offline::Comparison);
+    let mut then = |(summary, text, answers, comparison): Made| {
         replayed.summary.merge(summary);
+        replayed.comparison.merge(comparison);
         for (kept, more) in replayed.answers.iter_mut().zip(answers) {
             kept.extend(more);
         }
@@ -239,9 +283,8 @@ fn replay_with_progress(
     };
     // The replay's threads decide through this runtime; this one only waits for them.
     let runtime = tokio::runtime::Handle::current();
-    let read = tokio::task::block_in_place(|| {
-        offline::replay(lines, knowledge, limits, &runtime, &progress, &each, &mut then)
-    });
+    let read =
+        tokio::task::block_in_place(|| offline::replay(lines, setup, limits, &runtime, &progress, &each, &mut then));
     if watching {
         let _ = writeln!(std::io::stderr(), "\rreplayed: {}", replayed.summary.total);
     }
@@ -283,6 +326,21 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
     for diffed in [false, true].into_iter().take(1 + usize::from(args.diff)) {
         knowledge.push(sources.knowledge(norms_file(diffed), limits.max_body_bytes).await?);
     }
+    let conditions = offline::conditions(args.conditions.as_deref(), args.conditions_file.as_deref(), &limits)?;
+    if args.report.is_some() && conditions.is_empty() {
+        return Err(Failure::Usage {
+            detail: "--report compares conditions: give --conditions or --conditions-file".to_owned(),
+        });
+    }
+    let scene = match &args.scene {
+        Some(path) => Some(offline::scene_file(path, limits.max_body_bytes)?),
+        None => None,
+    };
+    let setup = offline::Setup {
+        knowledge,
+        conditions,
+        scene,
+    };
     let mut lines = offline::Lines::open(&args.file, limits.max_body_bytes)?;
     // Made before the replay, so a path that cannot be written fails before the work.
     let mut out = match &args.out {
@@ -293,9 +351,31 @@ async fn replay_command(args: ReplayArgs) -> Result<bool, Failure> {
         None => None,
     };
     let out = out.as_mut().map(|(path, file)| (*path, file as &mut dyn Write));
-    let Replayed { summary, answers } =
-        replay_with_progress(&mut lines, &args.file, &knowledge, &limits, out, args.diff)?;
-    if let [after, before] = answers.as_slice() {
+    // Made before the replay too; written once it is done.
+    let report = match &args.report {
+        Some(path) => Some((
+            path.as_path(),
+            std::fs::File::create(path).map_err(|e| cannot_write(path, e))?,
+        )),
+        None => None,
+    };
+    let Replayed {
+        summary,
+        answers,
+        comparison,
+    } = replay_with_progress(&mut lines, &args.file, &setup, &limits, out, args.diff)?;
+    if !setup.conditions.is_empty() {
+        let names: Vec<String> = setup.conditions.iter().map(|c| c.name.clone()).collect();
+        if let Some((path, mut file)) = report {
+            let page = offline::report_html(&args.file.display().to_string(), &names, &summary, &comparison);
+            file.write_all(page.as_bytes())
+                .and_then(|()| file.flush())
+                .map_err(|e| cannot_write(path, e))?;
+        }
+        let text = comparison.report(&names, &summary);
+        // The experiment's summary goes to stderr: standard output stays for the answers alone.
+        let _ = std::io::stderr().write_all(text.as_bytes());
+    } else if let [after, before] = answers.as_slice() {
         let changes = offline::diff(before, after);
         let mut report = offline::diff_report(&changes, summary.total);
         if !summary.errors.is_empty() {

@@ -1,6 +1,7 @@
 //! Decisions without a server: one request from a file (`scruple clarify`), a batch replayed
-//! from JSON Lines (`scruple replay`), and the difference a proposed norm set would make to a
-//! batch (`replay --diff`).
+//! from JSON Lines (`scruple replay`), the difference a proposed norm set would make to a
+//! batch (`replay --diff`), and an experiment's conditions compared (`replay --conditions`,
+//! `--report`).
 //!
 //! Owns: the CLI's failures and how they are reported, and each command's files and formats
 //! (`knowledge`: norms and verbs; `replay`: lines, answers, summary; `diff`), read no further
@@ -9,9 +10,11 @@
 //! every decision is `Core::clarify` over fixed knowledge, under the service's limits, with the
 //! response body `POST /v1/clarify` gives.
 
+mod conditions;
 mod diff;
 mod knowledge;
 mod replay;
+mod report;
 
 use std::fmt;
 use std::path::Path;
@@ -25,9 +28,11 @@ use crate::core::{Core, DEFAULT_MAX_BODY_BYTES, RequestLimits, Settings};
 use crate::error::Error;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
+pub use conditions::{Comparison, Condition, Differs, conditions, scene_file};
 pub use diff::{Change, diff, diff_report};
 pub use knowledge::{Sources, norms_from_bytes, norms_from_file};
-pub use replay::{Answer, Line, Lines, NO_CONDITION, Summary, jsonl, replay};
+pub use replay::{Answer, Line, Lines, NO_CONDITION, Setup, Summary, jsonl, replay};
+pub use report::report_html;
 
 /// The limits an offline decision is held to: the service's, set by the same flags.
 #[derive(Clone, Copy, Debug)]

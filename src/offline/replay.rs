@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
 
+use super::conditions::{Condition, with_scene};
 use super::{Failure, Knowledge, Limits, core_over, decide};
 use crate::core::Core;
 use crate::engine::input::escape_unseen;
@@ -153,7 +154,20 @@ fn read_line_within(input: &mut dyn BufRead, into: &mut Vec<u8>, most: usize) ->
     }
 }
 
-fn parse_line(bytes: &[u8]) -> Parsed {
+/// What every line is decided under beside its own words: the norms and verbs (one knowledge,
+/// or for `--diff` the proposed and the baseline), the conditions of an experiment (each line
+/// decided once under each, on the first knowledge), and the scene of a line that has none.
+#[derive(Clone, Debug)]
+pub struct Setup {
+    pub knowledge: Vec<Knowledge>,
+    pub conditions: Vec<Condition>,
+    pub scene: Option<serde_json::Value>,
+}
+
+fn parse_line(bytes: &[u8], scene: Option<&serde_json::Value>) -> Parsed {
+    // A line that cannot take the scene is parsed as it is, and its problem says why.
+    let filled = scene.and_then(|scene| with_scene(bytes, scene));
+    let bytes = filled.as_deref().unwrap_or(bytes);
     let enveloped = matches!(
         serde_json::from_slice::<serde_json::Value>(bytes),
         Ok(serde_json::Value::Object(ref members)) if members.contains_key("request")
@@ -255,8 +269,9 @@ impl Source<'_> {
 }
 
 /// Decides every line on one thread per core, each reading (one at a time), parsing and
-/// deciding the lines it takes, once under each of `knowledge` (the proposed norms, then for
-/// `--diff` the baseline). Each run of consecutive lines a worker decided is handed to `each`
+/// deciding the lines it takes, once under each of the setup's knowledge (the proposed norms,
+/// then for `--diff` the baseline), or, with conditions, once under each condition on the first
+/// knowledge: an arm each. Each run of consecutive lines a worker decided is handed to `each`
 /// on that worker (to serialize or count it there, beside the deciding) as its answers under
 /// each knowledge in turn, and what `each` made goes to `then` on the calling thread in line
 /// order, as soon as every line before it is in: the same order and answers whatever the
@@ -268,14 +283,23 @@ impl Source<'_> {
 /// after handing on every line read before it.
 pub fn replay<T: Send>(
     lines: &mut Lines,
-    knowledge: &[Knowledge],
+    setup: &Setup,
     limits: &Limits,
     runtime: &tokio::runtime::Handle,
     done: &(dyn Fn(usize) + Sync),
     each: &(dyn Fn(Vec<Vec<Answer>>) -> T + Sync),
     then: &mut dyn FnMut(T),
 ) -> std::io::Result<()> {
-    let cores: Vec<_> = knowledge.iter().map(|k| core_over(k.clone(), limits)).collect();
+    let cores: Vec<_> = match setup.conditions.as_slice() {
+        [] => setup.knowledge.iter().map(|k| core_over(k.clone(), limits)).collect(),
+        conditions => match setup.knowledge.first() {
+            Some(first) => {
+                let core = core_over(first.clone(), limits);
+                conditions.iter().map(|_| core.clone()).collect()
+            }
+            None => Vec::new(),
+        },
+    };
     let too_long = too_long(limits.max_body_bytes);
     // No more at once than the core has turns for costly decisions, so none waits for a turn
     // (a server would answer such a wait as overload).
@@ -303,7 +327,7 @@ pub fn replay<T: Send>(
                         let mut decided: Vec<Vec<Answer>> =
                             cores.iter().map(|_| Vec::with_capacity(taken.len())).collect();
                         for line in &taken {
-                            let answers = runtime.block_on(answers(line, cores, too_long));
+                            let answers = runtime.block_on(answers(line, cores, setup, too_long));
                             for (kept, answer) in decided.iter_mut().zip(answers) {
                                 kept.push(answer);
                             }
@@ -355,8 +379,9 @@ fn too_long(limit: usize) -> Problem {
     problem
 }
 
-/// One line parsed once and decided under each core's knowledge, in turn.
-async fn answers(line: &Line, cores: &[std::sync::Arc<Core>], too_long: &Problem) -> Vec<Answer> {
+/// One line parsed once and decided by each arm in turn: under each core's knowledge, or each
+/// condition's options (the answer then names the condition).
+async fn answers(line: &Line, cores: &[std::sync::Arc<Core>], setup: &Setup, too_long: &Problem) -> Vec<Answer> {
     let unanswered = |error: Problem, id: Option<String>, condition: Option<String>| Answer {
         line: line.number,
         id,
@@ -372,22 +397,44 @@ async fn answers(line: &Line, cores: &[std::sync::Arc<Core>], too_long: &Problem
         condition,
         enveloped,
         request,
-    } = parse_line(bytes);
+    } = parse_line(bytes, setup.scene.as_ref());
+    // Under conditions, each arm's answer is labelled by its condition, and a line may name none.
+    let label = |arm: usize| match setup.conditions.get(arm) {
+        Some(c) => Some(c.name.clone()),
+        None => condition.clone(),
+    };
+    let request = match (request, &condition) {
+        (Ok(_), Some(own)) if !setup.conditions.is_empty() => Err(Error::invalid(
+            "/condition",
+            format!(
+                "the line names its own condition `{}`, and --conditions decides every line under each condition: drop one",
+                escape_unseen(own)
+            ),
+        )
+        .problem()),
+        (request, _) => request,
+    };
     let body = match request {
         Ok(body) => body,
         Err(problem) => {
-            return cores
-                .iter()
-                .map(|_| unanswered(problem.clone(), id.clone(), condition.clone()))
+            return (0..cores.len())
+                .map(|arm| unanswered(problem.clone(), id.clone(), label(arm)))
                 .collect();
         }
     };
     let mut answers = Vec::with_capacity(cores.len());
-    for core in cores {
-        let (decision, error) = match decide(body.clone(), core).await {
+    for (arm, core) in cores.iter().enumerate() {
+        let body = match setup.conditions.get(arm) {
+            Some(condition) => condition.over(&body),
+            None => Ok(body.clone()),
+        };
+        let decided = match body {
+            Ok(body) => decide(body, core).await.map_err(|e| e.problem()),
+            Err(problem) => Err(problem),
+        };
+        let (decision, error) = match decided {
             Ok(d) => (Some(d), None),
-            Err(e) => {
-                let mut problem = e.problem();
+            Err(mut problem) => {
                 // Pointers in a report are into the line, whatever wraps the request.
                 if enveloped {
                     problem.field = problem.field.map(|f| format!("/request{f}"));
@@ -398,7 +445,7 @@ async fn answers(line: &Line, cores: &[std::sync::Arc<Core>], too_long: &Problem
         answers.push(Answer {
             line: line.number,
             id: id.clone(),
-            condition: condition.clone(),
+            condition: label(arm),
             decision,
             error,
         });
@@ -481,8 +528,28 @@ impl Summary {
         out
     }
 
+    /// Decisions by kind for each of `conditions`, in their order (the file's text shown
+    /// escaped: a report goes to a terminal).
+    pub(super) fn condition_table<'a>(&self, conditions: impl Iterator<Item = &'a String>) -> String {
+        let kinds = self.kinds();
+        let mut header = vec!["condition"];
+        header.extend(kinds.iter().copied());
+        let rows: Vec<Vec<String>> = conditions
+            .map(|condition| {
+                let counts = self.by_condition.get(condition);
+                let mut row = vec![escape_unseen(condition).into_owned()];
+                row.extend(kinds.iter().map(|k| {
+                    let count = counts.and_then(|c| c.get(*k)).copied().unwrap_or(0);
+                    count.to_string()
+                }));
+                row
+            })
+            .collect();
+        table(&header, &rows)
+    }
+
     /// The kinds that occur, in byte order, with `error` last.
-    fn kinds(&self) -> Vec<&str> {
+    pub(super) fn kinds(&self) -> Vec<&str> {
         let mut kinds: Vec<&str> = self
             .by_kind
             .keys()
@@ -551,20 +618,8 @@ impl fmt::Display for Summary {
             .collect();
         writeln!(f)?;
         write!(f, "{}", table(&["decision", "count"], &rows))?;
-        let mut header = vec!["condition"];
-        header.extend(kinds.iter().copied());
-        let rows: Vec<Vec<String>> = self
-            .by_condition
-            .iter()
-            .map(|(condition, counts)| {
-                // The file's text, shown escaped: a report goes to a terminal.
-                let mut row = vec![escape_unseen(condition).into_owned()];
-                row.extend(kinds.iter().map(|k| counts.get(*k).copied().unwrap_or(0).to_string()));
-                row
-            })
-            .collect();
         writeln!(f)?;
-        write!(f, "{}", table(&header, &rows))?;
+        write!(f, "{}", self.condition_table(self.by_condition.keys()))?;
         if !self.errors.is_empty() {
             writeln!(f)?;
             write!(f, "{}", self.errors_report())?;
@@ -575,7 +630,7 @@ impl fmt::Display for Summary {
 
 #[cfg(test)]
 mod tests {
-    use super::{CHUNK, Knowledge, Limits, Lines, replay};
+    use super::{CHUNK, Knowledge, Limits, Lines, Setup, replay};
 
     /// A `then` that panics ends the replay with that panic, never a hang: the workers waiting
     /// to hand on their chunks (far more chunks than the queue holds) are let go.
@@ -596,7 +651,11 @@ mod tests {
         let raised = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             replay(
                 &mut lines,
-                &[knowledge],
+                &Setup {
+                    knowledge: vec![knowledge],
+                    conditions: Vec::new(),
+                    scene: None,
+                },
                 &limits,
                 runtime.handle(),
                 &|_| {},

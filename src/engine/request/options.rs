@@ -159,7 +159,7 @@ impl Options {
 
 impl Options {
     /// The options and the deadline they ask for; fields named as in the request (`/options/..`).
-    pub(super) fn from_input(options: OptionsInput, limits: &RequestLimits) -> Result<(Options, Duration), Invalid> {
+    pub fn from_input(options: OptionsInput, limits: &RequestLimits) -> Result<(Options, Duration), Invalid> {
         if let Some(ratio) = options.confirm_above_ratio
             && !(ratio.is_finite() && (0.0..1.0).contains(&ratio))
         {
