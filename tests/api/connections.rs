@@ -499,3 +499,35 @@ async fn requests_hyper_cannot_parse_are_answered_with_problem_json() {
     assert_eq!(problem["type"], "/problems/bad-request");
     drop(served);
 }
+
+/// A write refused before its body is read (here: no token) closes an HTTP/1.1 connection, and
+/// says so (`Connection: close`), so a client never sends its next request down a connection
+/// about to close; an answer after a body read to its end keeps the connection for the next.
+#[tokio::test]
+async fn an_answer_given_before_the_body_was_read_says_the_connection_closes() {
+    let dir = tempfile::tempdir().unwrap();
+    let served = serve_short(&dir, &[("SCRUPLE_ADMIN_TOKEN", "0123456789abcdef-admin")]);
+    let body = r#"{"kind": "forbidden_action", "action": "destroy"}"#;
+    let request = |path: &str| {
+        format!(
+            "POST {path} HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+            body.len()
+        )
+    };
+    let mut stream = TcpStream::connect(served.addr()).await.unwrap();
+    // Read whole (a problem about the body's shape): the connection stays open for the next.
+    stream.write_all(request("/v1/clarify").as_bytes()).await.unwrap();
+    let read = read_response(&mut stream).await;
+    assert_raw_problem(&read, 422, "a body that is no request");
+    assert_eq!(read.header("connection"), None, "{:?}", read.headers);
+    stream.write_all(request("/v1/norms").as_bytes()).await.unwrap();
+    let refused = read_response(&mut stream).await;
+    assert_raw_problem(&refused, 401, "a write without the token");
+    assert_eq!(refused.header("connection"), Some("close"), "{:?}", refused.headers);
+    let rest = read_until_closed(&mut stream, BOUND).await;
+    assert_eq!(
+        rest.as_deref(),
+        Some(&b""[..]),
+        "closed after the refusal, nothing more sent"
+    );
+}

@@ -2,12 +2,15 @@
 //! handler starting to read it, so a client that stalls half-way cannot hold a request (and its
 //! connection) open.
 //!
-//! Owns: the deadline and the error a stalled read ends in. Must not: allocate per request (the
-//! timer lives in the body, which axum boxes once anyway) or limit sizes (that is the REST
+//! Owns: the deadline and the error a stalled read ends in, and telling the connection whether
+//! the body was read to its end. Must not: allocate per request (the timer lives in the body,
+//! which axum boxes once anyway; the flag is the connection's) or limit sizes (that is the REST
 //! layer's, and gRPC's own).
 
 use std::fmt;
 use std::pin::Pin;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::task::{Context, Poll, ready};
 use std::time::Duration;
 
@@ -47,15 +50,19 @@ pin_project_lite::pin_project! {
         #[pin]
         deadline: Option<Sleep>,
         limit: Duration,
+        // Set once the body has been read to its end (an HTTP/1.1 connection's, which carries one
+        // request at a time; none for HTTP/2).
+        read: Option<Arc<AtomicBool>>,
     }
 }
 
 impl<B> TimedBody<B> {
-    pub fn new(inner: B, limit: Duration) -> TimedBody<B> {
+    pub fn new(inner: B, limit: Duration, read: Option<Arc<AtomicBool>>) -> TimedBody<B> {
         TimedBody {
             inner,
             deadline: None,
             limit,
+            read,
         }
     }
 }
@@ -73,7 +80,12 @@ where
         if this.deadline.is_none() {
             this.deadline.set(Some(tokio::time::sleep(*this.limit)));
         }
-        if let Poll::Ready(frame) = this.inner.poll_frame(cx) {
+        if let Poll::Ready(frame) = this.inner.as_mut().poll_frame(cx) {
+            if let Some(read) = this.read
+                && (frame.is_none() || this.inner.is_end_stream())
+            {
+                read.store(true, Ordering::Relaxed);
+            }
             return Poll::Ready(frame.map(|f| f.map_err(Into::into)));
         }
         if let Some(deadline) = this.deadline.as_pin_mut() {
@@ -120,7 +132,7 @@ mod tests {
     #[tokio::test]
     async fn the_deadline_runs_from_the_first_read_while_the_handler_is_not_reading() {
         let limit = Duration::from_millis(200);
-        let mut body = std::pin::pin!(TimedBody::new(Stalls(Some(Bytes::from_static(b"{"))), limit));
+        let mut body = std::pin::pin!(TimedBody::new(Stalls(Some(Bytes::from_static(b"{"))), limit, None));
         assert!(matches!(body.frame().await, Some(Ok(_))));
         // The handler does other work past the deadline before it reads again.
         std::thread::sleep(limit + Duration::from_millis(50));
@@ -133,7 +145,7 @@ mod tests {
 
     #[tokio::test]
     async fn a_stalled_body_fails_at_its_deadline_and_a_whole_one_does_not() {
-        let error = TimedBody::new(Stalls(None), Duration::from_millis(30))
+        let error = TimedBody::new(Stalls(None), Duration::from_millis(30), None)
             .collect()
             .await
             .expect_err("the read fails");
@@ -141,10 +153,13 @@ mod tests {
         assert_eq!(timeout.0, Duration::from_millis(30));
         assert_eq!(error.to_string(), "the request body did not arrive within 30 ms");
 
+        let read = Arc::new(AtomicBool::new(false));
         let whole = TimedBody::new(
             http_body_util::Full::new(Bytes::from_static(b"{}")),
             Duration::from_secs(1),
+            Some(read.clone()),
         );
         assert_eq!(whole.collect().await.unwrap().to_bytes(), Bytes::from_static(b"{}"));
+        assert!(read.load(Ordering::Relaxed), "read to its end");
     }
 }

@@ -22,6 +22,7 @@ use std::future::Future;
 use std::net::SocketAddr;
 use std::pin::Pin;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::task::{Context, Poll};
 use std::time::{Duration, Instant};
 
@@ -438,14 +439,18 @@ struct Service {
     router: Served,
     body_timeout: Duration,
     activity: Arc<Activity>,
+    /// HTTP/1.1 only: whether the request in hand has had its body read to the end. One request
+    /// is in hand at a time on such a connection, so one flag serves them all.
+    read: Option<Arc<AtomicBool>>,
 }
 
 impl Service {
-    fn new(shared: &Shared, activity: &Arc<Activity>) -> Service {
+    fn new(shared: &Shared, activity: &Arc<Activity>, mode: Mode) -> Service {
         Service {
             router: shared.router.clone(),
             body_timeout: shared.config.body_timeout,
             activity: activity.clone(),
+            read: matches!(mode, Mode::Http1).then(|| Arc::new(AtomicBool::new(true))),
         }
     }
 }
@@ -457,10 +462,15 @@ impl hyper::service::Service<hyper::Request<Incoming>> for Service {
 
     fn call(&self, request: hyper::Request<Incoming>) -> Answer {
         let in_flight = self.activity.begin();
-        let request = request.map(|body| axum::body::Body::new(TimedBody::new(body, self.body_timeout)));
+        if let Some(read) = &self.read {
+            read.store(http_body::Body::is_end_stream(request.body()), Ordering::Relaxed);
+        }
+        let read = self.read.clone();
+        let request = request.map(|body| axum::body::Body::new(TimedBody::new(body, self.body_timeout, read)));
         Answer {
             inner: self.router.clone().oneshot(request),
             in_flight: Some(in_flight),
+            read: self.read.clone(),
         }
     }
 }
@@ -471,6 +481,7 @@ pin_project_lite::pin_project! {
         #[pin]
         inner: tower::util::Oneshot<Served, axum::extract::Request>,
         in_flight: Option<InFlight>,
+        read: Option<Arc<AtomicBool>>,
     }
 }
 
@@ -479,10 +490,19 @@ impl Future for Answer {
 
     fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Self::Output> {
         let this = self.project();
-        let response = match std::task::ready!(this.inner.poll(cx)) {
+        let mut response = match std::task::ready!(this.inner.poll(cx)) {
             Ok(response) => response,
             Err(never) => match never {},
         };
+        // Answered before its body was read (a refused write, an overload): hyper closes the
+        // connection rather than read the rest, so the answer says so, and a client does not
+        // send its next request down a connection about to close.
+        if this.read.as_ref().is_some_and(|read| !read.load(Ordering::Relaxed)) {
+            (response.headers_mut()).insert(
+                hyper::header::CONNECTION,
+                hyper::header::HeaderValue::from_static("close"),
+            );
+        }
         let in_flight = this.in_flight.take();
         Poll::Ready(Ok(response.map(|body| Tracked {
             body,
@@ -532,7 +552,7 @@ async fn serve_http1<IO>(
         .timer(TokioTimer::new())
         // The watchdog's header timeout, which leaves the wait between requests to the idle one.
         .header_read_timeout(None)
-        .serve_connection(TokioIo::new(watched), Service::new(shared, &activity));
+        .serve_connection(TokioIo::new(watched), Service::new(shared, &activity, Mode::Http1));
     let mut draining = false;
     let ended = loop {
         tokio::select! {
@@ -591,7 +611,7 @@ where
     let watched = Watched::new(io, prefix, activity.clone(), Mode::Http2);
     let mut connection = http2::Builder::new(TokioExecutor::new())
         .timer(TokioTimer::new())
-        .serve_connection(TokioIo::new(watched), Service::new(shared, &activity));
+        .serve_connection(TokioIo::new(watched), Service::new(shared, &activity, Mode::Http2));
     let mut connection = Pin::new(&mut connection);
     let mut draining = false;
     // After an idle GOAWAY, the client has the header timeout to let the connection close.
