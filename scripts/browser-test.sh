@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
-# The playground in Debian's Chromium, driven by playwright-core, against a real `scruple serve`
-# on a fresh database. Saves a screenshot (default docs/playground.png).
-# Usage: scripts/browser-test.sh [path/to/scruple] [screenshot.png]
+# The playground in Debian's Chromium, driven by playwright-core, against real `scruple serve`s
+# on fresh databases: tests/browser/playground.mjs (the paper's case, norms, readings; saves a
+# screenshot, default docs/playground.png), then tests/browser/dialogue.mjs (a conversation, its
+# transcript exported and reloaded, people, roles, verbs; a second service with reader tokens;
+# saves a screenshot of the dialogue, default beside the first as dialogue.png).
+# Usage: scripts/browser-test.sh [path/to/scruple] [screenshot.png] [dialogue.png]
 # Needs node and npm; installs chromium with apt-get when /usr/bin/chromium is missing (as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/lib.sh
 bin=${1:-${CARGO_TARGET_DIR:-target}/debug/scruple}
 shot=$(realpath -m "${2:-docs/playground.png}")
+dialogue_shot=$(realpath -m "${3:-$(dirname "$shot")/dialogue.png}")
+# The tokens of the second service: a reader's and an admin's (each secret distinct: the service
+# refuses to start with two tokens of the same secret).
+reader_token=0123456789abcdef0123
+admin_token=fedcba9876543210fedc
 work=$(mktemp -d)
-server=""
+servers=()
 cleanup() {
-  if [ -n "$server" ]; then kill "$server" 2>/dev/null || true; wait "$server" 2>/dev/null || true; fi
+  for pid in "${servers[@]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; done
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -26,14 +34,29 @@ fi
 # The lock pins playwright-core; it brings no browser of its own, it drives /usr/bin/chromium.
 (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error) || fail "npm ci in tests/browser"
 
-"$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/browser.db" >"$work/out" 2>"$work/err" &
-server=$!
-addr=$(listening_addr "$work/out") || fail "no 'listening on' line; stderr: $(cat "$work/err")"
-echo "browser-test: server on $addr"
+# serve NAME [FLAG...]: a server on a fresh database of its own; sets $addr.
+serve() {
+  local name=$1
+  shift
+  "$bin" serve --listen 127.0.0.1:0 --database-url "sqlite://$work/$name.db" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+  servers+=($!)
+  addr=$(listening_addr "$work/$name.out") || fail "$name: no 'listening on' line; stderr: $(cat "$work/$name.err")"
+  echo "browser-test: $name server on $addr"
+}
 
-node tests/browser/playground.mjs "http://$addr/" "$shot" || fail "the browser test failed"
+serve playground
+node tests/browser/playground.mjs "http://$addr/" "$shot" || fail "the playground test failed"
 
-kill -TERM "$server"
-wait "$server" && status=0 || status=$?
-server=""
-[ "$status" = 0 ] || fail "the server exited $status on SIGTERM"
+serve dialogue
+plain=$addr
+serve tokens --reader-token "r=$reader_token" --admin-token "$admin_token"
+READER_TOKEN=$reader_token ADMIN_TOKEN=$admin_token \
+  node tests/browser/dialogue.mjs "http://$plain/" "$dialogue_shot" "http://$addr/" || fail "the dialogue test failed"
+
+# Each server drains and exits 0 on SIGTERM.
+for pid in "${servers[@]}"; do
+  kill -TERM "$pid"
+  wait "$pid" && status=0 || status=$?
+  [ "$status" = 0 ] || fail "a server exited $status on SIGTERM"
+done
+servers=()
