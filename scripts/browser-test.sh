@@ -3,8 +3,11 @@
 # on fresh databases: tests/browser/playground.mjs (the paper's case, norms, readings; saves a
 # screenshot, default docs/playground.png), then tests/browser/dialogue.mjs (a conversation, its
 # transcript exported and reloaded, people, roles, verbs; a second service with reader tokens;
-# saves a screenshot of the dialogue, default beside the first as dialogue.png).
-# Usage: scripts/browser-test.sh [path/to/scruple] [screenshot.png] [dialogue.png]
+# saves a screenshot of the dialogue, default beside the first as dialogue.png); then the HTML
+# report of an experiment (`scruple replay --conditions ... --report`) opened from its file by
+# tests/browser/report.mjs (its chart and tables drawn, nothing fetched; a screenshot, default
+# beside the first as replay-report.png).
+# Usage: scripts/browser-test.sh [path/to/scruple] [screenshot.png] [dialogue.png] [report.png]
 # Needs node and npm; installs chromium with apt-get when /usr/bin/chromium is missing (as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +15,7 @@ cd "$(dirname "$0")/.."
 bin=${1:-${CARGO_TARGET_DIR:-target}/debug/scruple}
 shot=$(realpath -m "${2:-docs/playground.png}")
 dialogue_shot=$(realpath -m "${3:-$(dirname "$shot")/dialogue.png}")
+report_shot=$(realpath -m "${4:-$(dirname "$shot")/replay-report.png}")
 # The tokens of the second service: a reader's and an admin's (each secret distinct: the service
 # refuses to start with two tokens of the same secret).
 reader_token=0123456789abcdef0123
@@ -52,6 +56,12 @@ plain=$addr
 serve tokens --reader-token "r=$reader_token" --admin-token "$admin_token"
 READER_TOKEN=$reader_token ADMIN_TOKEN=$admin_token \
   node tests/browser/dialogue.mjs "http://$plain/" "$dialogue_shot" "http://$addr/" || fail "the dialogue test failed"
+
+# The README's experiment: the paper's directives under three conditions, as a page.
+"$bin" replay examples/replay/directives.jsonl --scene examples/scenes/lab.json --norms examples/norms/paper.json \
+  --conditions-file examples/replay/conditions.json --out "$work/answers.jsonl" --report "$work/report.html" \
+  2>"$work/replay.err" || fail "the experiment's replay failed: $(cat "$work/replay.err")"
+node tests/browser/report.mjs "$work/report.html" "$work/answers.jsonl" "$report_shot" || fail "the report test failed"
 
 # Each server drains and exits 0 on SIGTERM.
 for pid in "${servers[@]}"; do
