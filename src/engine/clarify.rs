@@ -502,7 +502,7 @@ fn decide_directive(
     if matches!(answer, Some(Answer::Yes | Answer::Alternative))
         && let Some(alternative) = found.take()
     {
-        readings = vec![alternative];
+        readings = vec![alternative::described(alternative, &mut describer)];
         plan = decide(options, &readings, &slots, false);
         return Ok(finish(plan, readings, limits, &mut describer));
     }

@@ -125,6 +125,13 @@ fn differing(a: &Object, b: &Object) -> usize {
     properties + keys.filter(|k| a.attributes.get(*k) != b.attributes.get(*k)).count()
 }
 
+/// The alternative found with its words (the search leaves them unsaid: most readings it
+/// looks at are never spoken).
+pub(super) fn described(mut found: Interpretation, describer: &mut Describer<'_>) -> Interpretation {
+    found.description = describer.arguments(speech::action_of(&found));
+    found
+}
+
 /// Puts the alternative found into the decision: its action term, and the question that ends
 /// the utterance.
 pub(super) fn offer(
@@ -133,8 +140,8 @@ pub(super) fn offer(
     style: Style,
     describer: &mut Describer<'_>,
 ) {
-    let Some(mut found) = found else { return };
-    found.description = describer.arguments(speech::action_of(&found));
+    let Some(found) = found else { return };
+    let found = described(found, describer);
     let reading = speech::reading(&found);
     decision.utterance.push_str(&match style {
         Style::Diarc => format!(" Do you want me to {reading} instead?"),

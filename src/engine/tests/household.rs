@@ -304,6 +304,13 @@ fn a_refusal_offers_the_nearest_acceptable_reading_instead() {
     let d = run(&yes, &kitchen, &no_cans_in_the_microwave());
     assert_eq!(d.kind, Comply, "{}", d.utterance);
     assert_eq!(d.goal.as_ref().unwrap().to_string(), "did(self,heat(can1,stove1))");
+    // Said whole in the natural style: what is done, to what (it was "Okay, I will heat.").
+    let natural = Request {
+        answer: Some(Answer::Yes),
+        ..styled(text, Style::Natural)
+    };
+    let said = run(&natural, &kitchen, &no_cans_in_the_microwave()).utterance.clone();
+    assert_eq!(said, "Okay, I will heat the can in the stove.");
     // {"choice": "alternative"} is the same answer; with none offered, nothing was asked.
     let chosen = Request {
         answer: Some(Answer::Alternative),
