@@ -46,6 +46,11 @@ run_client() {
 }
 
 run_client python-http "$venv/bin/python" examples/python/http_client.py
+# Twice, so that the second run imports the stubs the first generated into the venv's cache.
+export SCRUPLE_STUBS_DIR=$venv/grpc-stubs
+rm -rf "$SCRUPLE_STUBS_DIR"
 run_client python-grpc "$venv/bin/python" examples/python/grpc_client.py
+[ -n "$(ls "$SCRUPLE_STUBS_DIR")" ] || fail "python-grpc: no stubs kept in $SCRUPLE_STUBS_DIR"
+run_client python-grpc-cached "$venv/bin/python" examples/python/grpc_client.py
 run_client rust-grpc cargo run --quiet --example client --
 echo "clients: $passed passed, 0 failed"

@@ -657,7 +657,6 @@ fn many_readings_lines() -> String {
 /// parallel even where the machine has one core.
 #[test]
 fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
-    use std::os::unix::process::CommandExt;
     let demo = demo();
     let dir = TempDir::new().unwrap();
     let mut lines = demo_jsonl(&demo).repeat(40);
@@ -675,21 +674,10 @@ fn replay_answers_are_the_same_bytes_on_one_core_as_on_all() {
             .args(["replay", s(&jsonl), "--norms", s(&norms), "--out", s(&out)])
             .env_remove("RAYON_NUM_THREADS")
             .stdin(Stdio::null());
-        if !one_core {
-            let cores = std::thread::available_parallelism().map_or(1, usize::from);
-            command.env("RAYON_NUM_THREADS", cores.max(4).to_string());
+        if one_core {
+            support::on_one_core(&mut command);
         } else {
-            // SAFETY: only async-signal-safe calls between fork and exec.
-            unsafe {
-                command.pre_exec(|| {
-                    let mut set: libc::cpu_set_t = std::mem::zeroed();
-                    libc::CPU_SET(0, &mut set);
-                    match libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) {
-                        0 => Ok(()),
-                        _ => Err(std::io::Error::last_os_error()),
-                    }
-                });
-            }
+            support::on_every_core(&mut command);
         }
         let output = command.output().expect("the binary runs");
         assert_eq!(

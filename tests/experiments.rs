@@ -345,7 +345,6 @@ fn a_scene_file_serves_the_lines_that_name_none_and_no_other() {
 /// every core (a pool of at least four threads).
 #[test]
 fn an_experiment_is_the_same_bytes_on_one_core_as_on_all() {
-    use std::os::unix::process::CommandExt;
     let dir = TempDir::new().unwrap();
     let demo = demo();
     let lines = write(dir.path(), "cases.jsonl", &paper_lines(&demo, true).repeat(30));
@@ -368,20 +367,9 @@ fn an_experiment_is_the_same_bytes_on_one_core_as_on_all() {
             .args(["--out", s(&out), "--report", s(&report)])
             .env_remove("RAYON_NUM_THREADS");
         if one_core {
-            // SAFETY: only async-signal-safe calls between fork and exec.
-            unsafe {
-                command.pre_exec(|| {
-                    let mut set: libc::cpu_set_t = std::mem::zeroed();
-                    libc::CPU_SET(0, &mut set);
-                    match libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) {
-                        0 => Ok(()),
-                        _ => Err(std::io::Error::last_os_error()),
-                    }
-                });
-            }
+            support::on_one_core(&mut command);
         } else {
-            let cores = std::thread::available_parallelism().map_or(1, usize::from);
-            command.env("RAYON_NUM_THREADS", cores.max(4).to_string());
+            support::on_every_core(&mut command);
         }
         let output = run(&mut command);
         assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));

@@ -47,3 +47,28 @@ pub fn command(program: impl AsRef<OsStr>) -> Command {
 pub fn scruple() -> Command {
     command(SCRUPLE)
 }
+
+/// Runs the command pinned to the first core: one worker thread, and one thread in rayon's pool.
+#[allow(dead_code)] // only the replay tests run on chosen cores
+pub fn on_one_core(command: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        command.pre_exec(|| {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            libc::CPU_SET(0, &mut set);
+            match libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) {
+                0 => Ok(()),
+                _ => Err(std::io::Error::last_os_error()),
+            }
+        })
+    }
+}
+
+/// Runs the command with a pool of at least four threads, so that it is parallel even where the
+/// machine has one core.
+#[allow(dead_code)] // only the replay tests run on chosen cores
+pub fn on_every_core(command: &mut Command) -> &mut Command {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    command.env("RAYON_NUM_THREADS", cores.max(4).to_string())
+}
