@@ -10,6 +10,7 @@
 //! every decision is `Core::clarify` over fixed knowledge, under the service's limits, with the
 //! response body `POST /v1/clarify` gives.
 
+mod command;
 mod conditions;
 mod diff;
 mod knowledge;
@@ -28,6 +29,7 @@ use crate::core::{Core, DEFAULT_MAX_BODY_BYTES, RequestLimits, Settings};
 use crate::error::Error;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
+pub use command::{ReplayCommand, replay_command};
 pub use conditions::{Comparison, Condition, Differs, conditions, scene_file};
 pub use diff::{Change, diff, diff_report};
 pub use knowledge::{Sources, norms_from_bytes, norms_from_file};
