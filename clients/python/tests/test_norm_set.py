@@ -12,8 +12,6 @@ STEAL = {"kind": "forbidden_action", "action": "steal"}
 VASE = {"kind": "forbidden_state", "state": "did(self,get(object3))"}
 JUGGLE = {"kind": "discouraged_action", "action": "juggle", "severity": 2}
 
-new_endpoints = pytest.mark.new_endpoints
-
 
 def rules(client: Client) -> list[tuple[int, str]]:
     return [(n.id, n.action or n.state or "") for n in client.get_norm_set().norms]
@@ -34,7 +32,6 @@ def test_replace_keeps_the_ids_it_is_given(client: Client) -> None:
     assert [(n.id, n.action) for n in restored.norms] == [(n.id, n.action) for n in first]
 
 
-@new_endpoints
 def test_merge_keeps_what_it_does_not_name(client: Client) -> None:
     destroy, steal = client.put_norm_set([DESTROY, STEAL]).norms
     merged = client.put_norm_set([VASE], mode="merge")
@@ -45,7 +42,6 @@ def test_merge_keeps_what_it_does_not_name(client: Client) -> None:
     assert merged.norms[0].revision == destroy.revision, "a norm not named is kept as it was"
 
 
-@new_endpoints
 def test_merge_replaces_the_norm_it_names_by_id(client: Client) -> None:
     destroy, steal = client.put_norm_set([DESTROY, STEAL]).norms
     softer = NormBody.model_validate({**JUGGLE, "id": steal.id})
@@ -57,14 +53,12 @@ def test_merge_replaces_the_norm_it_names_by_id(client: Client) -> None:
     assert client.get_norm(steal.id).severity == 2
 
 
-@new_endpoints
 def test_merging_nothing_changes_nothing(client: Client) -> None:
     before = client.put_norm_set([DESTROY, STEAL])
     after = client.put_norm_set([], mode="merge")
     assert [(n.id, n.revision) for n in after.norms] == [(n.id, n.revision) for n in before.norms]
 
 
-@new_endpoints
 def test_replace_spelt_out_is_the_default(client: Client) -> None:
     client.put_norm_set([DESTROY, STEAL])
     answer = client.request("PUT", "/v1/norm-set", json={"norms": [VASE], "mode": "replace"})

@@ -5,13 +5,9 @@ from __future__ import annotations
 import json
 import re
 
-import pytest
-
 from scruple_client import Client
 
 from conftest import openapi_path
-
-pytestmark = pytest.mark.new_endpoints
 
 
 def test_the_served_document_is_the_checked_in_one(client: Client) -> None:

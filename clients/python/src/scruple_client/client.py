@@ -26,7 +26,7 @@ from .models import (
     NormBody,
     NormDto,
     NormSetDto,
-    VersionDto,
+    VersionInfo,
 )
 
 __all__ = ["Client", "AsyncClient", "DEFAULT_URL", "DEFAULT_TIMEOUT"]
@@ -155,7 +155,7 @@ _ACTION = _model(TypeAdapter(Action))
 _ACTIONS = _model(TypeAdapter(list[Action]))
 _AUDIT = _model(TypeAdapter(AuditPageDto))
 _HEALTH = _model(TypeAdapter(Health))
-_VERSION = _model(TypeAdapter(VersionDto))
+_VERSION = _model(TypeAdapter(VersionInfo))
 
 
 class _Calls:
@@ -244,7 +244,7 @@ class _Calls:
         return _Call("GET", "/readyz", _HEALTH)
 
     @staticmethod
-    def version() -> _Call[VersionDto]:
+    def version() -> _Call[VersionInfo]:
         return _Call("GET", "/version", _VERSION)
 
     @staticmethod
@@ -448,7 +448,7 @@ class Client(_Base):
         """``GET /readyz``: ``status`` ``ok`` when a decision can be made; else :class:`Unavailable`."""
         return self._run(_Calls.readyz())
 
-    def version(self) -> VersionDto:
+    def version(self) -> VersionInfo:
         """``GET /version``: the service's version, commit and newest migration applied."""
         return self._run(_Calls.version())
 
@@ -588,7 +588,7 @@ class AsyncClient(_Base):
         """``GET /readyz``: ``ok`` when a decision can be made; else :class:`Unavailable`."""
         return await self._run(_Calls.readyz())
 
-    async def version(self) -> VersionDto:
+    async def version(self) -> VersionInfo:
         """``GET /version``: the service's version, commit and newest migration applied."""
         return await self._run(_Calls.version())
 

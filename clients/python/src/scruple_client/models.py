@@ -70,7 +70,7 @@ __all__ = [
     "AuditEntryDto",
     "AuditPageDto",
     "Health",
-    "VersionDto",
+    "VersionInfo",
     "Problem",
     "QUESTION_DECISIONS",
     "DECISIONS",
@@ -654,7 +654,7 @@ class Health(_Response):
     status: str
 
 
-class VersionDto(_Response):
+class VersionInfo(_Response):
     """``GET /version``: the service's version, the commit it was built from, and the newest
     database migration applied."""
 
