@@ -5,10 +5,12 @@
 //! assume, confirm or obey a reading that is impermissible or infeasible under the moral
 //! strategy, simulate anything, or word anything.
 
-use super::clarify::FEW;
 use super::decision::{DecisionKind, Interpretation, Plan};
 use super::request::{Options, SinglePermissible, Strategy};
 use super::resolve::Slot;
+
+/// How many of the likeliest readings are named when there are too many to name them all.
+pub const FEW: usize = 3;
 
 /// The nouns of the slots whose value differs among `readings` ("which notebook").
 fn varying_nouns(readings: &[&Interpretation], slots: &[Slot]) -> Vec<String> {

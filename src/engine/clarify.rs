@@ -25,8 +25,6 @@ use super::term::Term;
 use super::words::{self, Understanding};
 use super::world::{Base, World};
 
-/// How many of the likeliest readings are named when there are too many to name them all.
-pub const FEW: usize = 3;
 /// From this many readings on, simulation (and the sort) runs on rayon's pool. A reading costs
 /// about 2 µs at 1,000 objects, and handing work to the pool costs a wake-up and the other core
 /// reading the fact base into its cache: 100 readings took longer on two threads than on one,

@@ -74,8 +74,7 @@ pub fn normalise_phrase(text: &str) -> String {
         .join(" ")
 }
 
-/// Longest name of an id, a type, a property, an attribute or a context, in bytes.
-pub const MAX_NAME_LEN: usize = 128;
+pub use super::sym::MAX_NAME_LEN;
 
 /// A name that must read back as a constant of a term: `object3`, `cash_box`, `red`.
 pub fn constant(field: &str, text: &str, what: &str) -> Result<(), Invalid> {

@@ -73,7 +73,11 @@ const MAX_OFTEN: usize = 1 << 14;
 /// Only names of at most this many bytes (a request's object ids, types and properties are
 /// no longer) last for being interned often: a fact may carry a longer name, which must not
 /// be kept for ever.
-const OFTEN_AT_MOST: usize = super::input::MAX_NAME_LEN;
+const OFTEN_AT_MOST: usize = MAX_NAME_LEN;
+
+/// Longest name of an id, a type, a property, an attribute or a context, in bytes: what a
+/// request may name (`input` holds requests to it).
+pub const MAX_NAME_LEN: usize = 128;
 static OFTEN_LASTING: AtomicUsize = AtomicUsize::new(0);
 
 /// The table holds a name as long as a symbol does; a name only the table holds is garbage,

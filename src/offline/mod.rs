@@ -11,6 +11,7 @@
 //! response body `POST /v1/clarify` gives.
 
 mod command;
+mod compare;
 mod conditions;
 mod diff;
 mod knowledge;
@@ -30,7 +31,8 @@ use crate::error::Error;
 use crate::wire::{ClarifyBody, DecisionDto, parse_json};
 
 pub use command::{ReplayCommand, replay_command};
-pub use conditions::{Comparison, Condition, Differs, conditions, scene_file};
+pub use compare::{Comparison, Differs};
+pub use conditions::{Condition, conditions, scene_file};
 pub use diff::{Change, diff, diff_report};
 pub use knowledge::{Sources, norms_from_bytes, norms_from_file};
 pub use replay::{Answer, Line, Lines, NO_CONDITION, Setup, Summary, jsonl, replay};

@@ -7,7 +7,7 @@
 
 use std::fmt::Write;
 
-use super::conditions::{Comparison, percent};
+use super::compare::{Comparison, percent};
 use super::replay::Summary;
 use crate::engine::input::escape_unseen;
 

@@ -8,7 +8,8 @@ use std::collections::BTreeMap;
 use proptest::prelude::*;
 
 use super::action::Library;
-use super::clarify::{FEW, clarify};
+use super::algorithm::FEW;
+use super::clarify::clarify;
 use super::decision::{Decision, DecisionKind, Interpretation};
 use super::norms::{CompiledNorms, Norm, NormInput};
 use super::request::{DEFAULT_MAX_SPOKEN, Directive, Options, Request, SinglePermissible, Strategy as ClarifyStrategy};
