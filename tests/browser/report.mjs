@@ -8,7 +8,7 @@
 import { readFileSync } from "node:fs";
 import { resolve } from "node:path";
 import { pathToFileURL } from "node:url";
-import { chromium } from "playwright-core";
+import { launch } from "./chromium.mjs";
 
 const [reportPath, answersPath, shotPath] = process.argv.slice(2);
 if (!reportPath || !answersPath) {
@@ -40,7 +40,7 @@ for (const text of readFileSync(answersPath, "utf8").split("\n").filter(Boolean)
 }
 const differing = Object.keys(byLine).filter((line) => byLine[line].size > 1).map(Number);
 
-const browser = await chromium.launch({ executablePath: "/usr/bin/chromium", args: ["--no-sandbox"] });
+const browser = await launch();
 try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 900 } });
   const errors = [];
