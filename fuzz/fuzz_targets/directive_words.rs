@@ -61,9 +61,10 @@ static SCENE: LazyLock<Scene> = LazyLock::new(|| {
 static LIBRARY: LazyLock<Library> = LazyLock::new(Library::default_library);
 
 /// The words of the scene: a reference may match an object only when each of its words (past
-/// the determiner) is one of these.
+/// the determiner) is one of these. "me" names the speaker (a list may join it: "the cash box or
+/// me" matches the box).
 const KNOWN: &[&str] = &[
-    "the", "a", "an", "this", "that", "my", "your", "one", "notebook", "vase", "mug", "cash", "box", "red", "green",
+    "the", "a", "an", "this", "that", "my", "your", "one", "me", "notebook", "vase", "mug", "cash", "box", "red", "green",
     "fragile", "plastic", "not", "or", "it", "them", "is", "it's", "too", "very", "really", "so", "quite",
     "rather", "extremely", "bit", "little", "which", "but", "except", "other", "than", "any",
     // Relations, superlatives, ordinals and their directions: words that narrow by place.
