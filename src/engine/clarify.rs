@@ -479,11 +479,17 @@ fn decide_directive(
             SinglePermissible::Confirm => Plan::Confirm { chosen, others },
         };
     }
+    let mut excluded = Vec::new();
+    if let Directive::Action { arguments, .. } = directive {
+        arguments.iter().for_each(|r| r.excluded(scene, expired, &mut excluded));
+    }
+    excluded.sort_unstable();
     let search = alternative::Search {
         env: &env,
         world: &world,
         relation: relation.as_ref(),
         most: options.max_readings,
+        excluded: &excluded,
     };
     let mut found = (alternative::wanted(&options, &plan, limits.is_some()))
         .then(|| search.nearest(&template, &readings))

@@ -133,6 +133,39 @@ pub enum Reference {
     Speaker(String),
 }
 
+impl Reference {
+    /// The objects the words rule out anywhere in this reference: what each exclusion's `by`
+    /// matches ("the stove" in "the microwave, not the stove"), landmarks' too. Nothing offered
+    /// in place of what was said may be one of them.
+    pub fn excluded(&self, scene: &Scene, expired: &dyn Fn() -> bool, into: &mut Vec<usize>) {
+        match self {
+            Reference::Narrowed { base, by, keep, .. } => {
+                if !keep && let Some(selected) = by.select(scene, expired) {
+                    into.extend(selected.objects);
+                }
+                base.excluded(scene, expired, into);
+            }
+            Reference::Either { options: all, .. } | Reference::Union { readings: all, .. } => {
+                all.iter().for_each(|r| r.excluded(scene, expired, into));
+            }
+            Reference::Related { base, to, .. } => {
+                base.excluded(scene, expired, into);
+                to.excluded(scene, expired, into);
+            }
+            Reference::Most { base, .. } | Reference::Nth { base, .. } | Reference::Plural { base, .. } => {
+                base.excluded(scene, expired, into);
+            }
+            Reference::Id(_)
+            | Reference::Described { .. }
+            | Reference::Spoken { .. }
+            | Reference::Pronoun { .. }
+            | Reference::Nothing { .. }
+            | Reference::Implied { .. }
+            | Reference::Speaker(_) => {}
+        }
+    }
+}
+
 /// A reference as a request gives it, before it is checked: `id`, or a description; attribute
 /// values already as text.
 #[derive(Clone, Debug, Default)]

@@ -27,6 +27,8 @@ pub(super) struct Search<'a, 'b> {
     pub relation: Option<&'a (Sym, Sym)>,
     /// Most changes looked at: the request's readings cap.
     pub most: usize,
+    /// Objects the words excluded ("…, not the stove"), by index, sorted: never offered.
+    pub excluded: &'a [usize],
 }
 
 /// Whether the plan is one an alternative answers: a refusal or an explanation, every reading
@@ -74,7 +76,8 @@ impl Search<'_, '_> {
                         return None;
                     }
                     let kin = object.kind == was.kind || meets.is_some_and(|m| m.binary_search(&o).is_ok());
-                    if !kin || object.id == was.id || (object.kind == PERSON) != (was.kind == PERSON) {
+                    let ruled_out = self.excluded.binary_search(&o).is_ok();
+                    if !kin || ruled_out || object.id == was.id || (object.kind == PERSON) != (was.kind == PERSON) {
                         continue;
                     }
                     tried.push((differing(was, object), r, a, o));

@@ -296,6 +296,11 @@ fn a_refusal_offers_the_nearest_acceptable_reading_instead() {
     let mut reflexive = asked.clone();
     reflexive.options.strategy = ClarifyStrategy::Reflexive;
     assert_eq!(run(&reflexive, &kitchen, &no_cans_in_the_microwave()).alternative, None);
+    // Never an object the words excluded: the stove is ruled out, and nothing else heats.
+    let excluding = styled("Heat the can in the microwave, not the stove.", Style::Natural);
+    let d = run(&excluding, &kitchen, &no_cans_in_the_microwave());
+    assert_eq!((d.kind, d.alternative.clone()), (Refuse, None), "{}", d.utterance);
+    assert!(!d.utterance.contains("stove"), "{}", d.utterance);
     // "yes": the alternative, decided afresh.
     let yes = Request {
         answer: Some(Answer::Yes),
